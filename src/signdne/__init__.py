@@ -1,0 +1,17 @@
+"""signdne: ariaDNE and its sign-oriented extension for triangle meshes.
+
+ariaDNE (Shan et al. 2019) measures how curved a surface is, robustly to how it
+is meshed; the sign-oriented extension (signDNE) splits it into convex (cusps,
+ridges) and concave (valleys, basins) parts.
+
+>>> from signdne import ariaDNE
+>>> result = ariaDNE("tooth.ply")             # doctest: +SKIP
+>>> result.dne, result.positive_dne, result.negative_dne  # doctest: +SKIP
+"""
+
+from ._ariadne import ariaDNE
+from ._mesh import load_mesh
+from ._result import AriaDNEResult
+from ._version import __version__
+
+__all__ = ["AriaDNEResult", "__version__", "ariaDNE", "load_mesh"]

@@ -1,0 +1,5 @@
+"""``python -m signdne``: the signDNE command."""
+
+from ._cli import run
+
+run()

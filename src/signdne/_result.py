@@ -1,0 +1,88 @@
+"""The named result of an ariaDNE computation."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import trimesh
+
+#: Scalar fields, in the order of output tables (after ``file``).
+SCALAR_FIELDS = (
+    "dne",
+    "positive_dne",
+    "negative_dne",
+    "surface_area",
+    "positive_surface_area",
+    "negative_surface_area",
+    "vertices",
+    "faces",
+    "bandwidth",
+    "cutoff",
+    "distance_type",
+    "sign_method",
+)
+
+
+@dataclass(frozen=True)
+class AriaDNEResult:
+    """ariaDNE and its sign-oriented split for one mesh.
+
+    Per-vertex arrays follow the vertices of the cleaned mesh (``mesh``), which
+    keep the input order when cleaning removes nothing.
+
+    Attributes
+    ----------
+    local_curvature : (n,) float
+        Signed local bending: ``k_i = lambda_i / trace(C_i)`` from the weighted
+        PCA at vertex i, positive where the surface is convex (cusps, ridges:
+        the neighbourhood's weighted centroid lies inside the closed surface),
+        negative where it is concave (valleys, basins).  Dimensionless.
+    local_dne : (n,) float
+        ``local_curvature`` times the vertex area on the unit-area scale.
+    dne : float
+        ariaDNE, ``sum(|local_dne|)``.
+    positive_dne : float
+        ``sum(local_dne[local_dne >= 0])``.
+    negative_dne : float
+        ``-sum(local_dne[local_dne < 0])``, a non-negative magnitude, so that
+        ``positive_dne + negative_dne == dne``.
+    surface_area : float
+        Area of the cleaned mesh, in the mesh's own units squared.
+    positive_surface_area, negative_surface_area : float
+        Vertex areas (one third of the incident faces' area) summed over the
+        vertices counted in ``positive_dne`` and ``negative_dne``, mesh units.
+    vertices, faces : int
+        Vertex and face counts of the cleaned mesh.
+    bandwidth : float
+        Kernel bandwidth used (unit-area scale).
+    cutoff : float
+        Kernel weight cutoff used.
+    distance_type : str
+        ``"euclidean"``, ``"geodesic"`` or ``"precomputed"``.
+    sign_method : str
+        How the sign was decided (``"centroid"``: weighted centroid inside the
+        closed surface, by exact generalised winding number).
+    mesh : trimesh.Trimesh
+        The cleaned mesh the per-vertex values refer to (a private copy).
+    """
+
+    local_curvature: np.ndarray
+    local_dne: np.ndarray
+    dne: float
+    positive_dne: float
+    negative_dne: float
+    surface_area: float
+    positive_surface_area: float
+    negative_surface_area: float
+    vertices: int
+    faces: int
+    bandwidth: float
+    cutoff: float
+    distance_type: str
+    sign_method: str
+    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+
+    def to_dict(self) -> dict:
+        """The scalar fields as a plain dict (one row of a results table)."""
+        return {name: getattr(self, name) for name in SCALAR_FIELDS}

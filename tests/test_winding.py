@@ -1,0 +1,74 @@
+"""The inside test: exact where it matters, independent of luck and orientation."""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+
+from signdne._closure import boundary_edges, close_holes, orient_consistently
+from signdne._winding import exact_winding_number, inside, winding_number
+
+
+def test_fast_winding_number_agrees_with_exact_sum(sphere):
+    rng = np.random.default_rng(0)
+    points = rng.uniform(-1.5, 1.5, size=(2000, 3))
+    fast = winding_number(sphere.vertices, sphere.faces, points)
+    exact = exact_winding_number(sphere.vertices, sphere.faces, points)
+    assert np.max(np.abs(fast - exact)) < 0.05
+    np.testing.assert_array_equal(np.abs(fast) > 0.5, np.abs(exact) > 0.5)
+    np.testing.assert_array_equal(np.abs(fast) > 0.5, sphere.contains(points))
+
+
+def test_points_a_hairs_breadth_from_the_surface(sphere):
+    """Points 1e-9 inside and outside every face centre are classified exactly."""
+    centres = sphere.triangles_center
+    normals = sphere.face_normals
+    for offset, expected in ((-1e-9, True), (1e-9, False)):
+        points = centres + offset * normals
+        np.testing.assert_array_equal(inside(sphere.vertices, sphere.faces, points), expected)
+
+
+def test_points_near_vertices_and_edges(sphere):
+    vertices = sphere.vertices
+    edges = sphere.edges_unique
+    mid = vertices[edges].mean(axis=1)
+    radial = mid / np.linalg.norm(mid, axis=1, keepdims=True)
+    for points, expected in (
+        (vertices * (1 - 1e-10), True),
+        (vertices * (1 + 1e-10), False),
+        (mid - 1e-10 * radial, True),
+        (mid + 1e-10 * radial, False),
+    ):
+        np.testing.assert_array_equal(inside(vertices, sphere.faces, points), expected)
+
+
+def test_inward_orientation_is_handled(sphere):
+    flipped = sphere.faces[:, ::-1]
+    points = np.array([[0, 0, 0], [0.5, 0.1, 0.2], [2, 0, 0]])
+    np.testing.assert_array_equal(inside(sphere.vertices, flipped, points), [True, True, False])
+
+
+def test_orient_consistently_repairs_flipped_faces(sphere):
+    faces = sphere.faces.copy()
+    faces[::2] = faces[::2, ::-1]
+    fixed = orient_consistently(faces, len(sphere.vertices))
+    mesh = trimesh.Trimesh(sphere.vertices, fixed, process=False)
+    assert mesh.is_winding_consistent
+
+
+def test_close_holes_makes_a_watertight_surface():
+    sphere = trimesh.creation.icosphere(subdivisions=3)
+    opened = sphere.faces[sphere.triangles_center[:, 2] < 0.6]  # a cap removed
+    assert len(boundary_edges(opened, len(sphere.vertices))) > 0
+    vertices, faces = close_holes(sphere.vertices, opened)
+    closed = trimesh.Trimesh(vertices, faces, process=False)
+    assert closed.is_watertight and closed.is_winding_consistent
+    assert len(vertices) == len(sphere.vertices) + 1
+
+
+def test_two_holes_get_two_caps():
+    sphere = trimesh.creation.icosphere(subdivisions=3)
+    z = sphere.triangles_center[:, 2]
+    vertices, faces = close_holes(sphere.vertices, sphere.faces[np.abs(z) < 0.7])
+    assert len(vertices) == len(sphere.vertices) + 2
+    assert trimesh.Trimesh(vertices, faces, process=False).is_watertight
