@@ -10,8 +10,16 @@ ridges) and concave (valleys, basins) parts.
 """
 
 from ._ariadne import ariaDNE
+from ._classic import ClassicDNEResult, classic_dne
 from ._mesh import load_mesh
 from ._result import AriaDNEResult
 from ._version import __version__
 
-__all__ = ["AriaDNEResult", "__version__", "ariaDNE", "load_mesh"]
+__all__ = [
+    "AriaDNEResult",
+    "ClassicDNEResult",
+    "__version__",
+    "ariaDNE",
+    "classic_dne",
+    "load_mesh",
+]
