@@ -14,13 +14,11 @@ from numbers import Real
 import numpy as np
 
 from . import _kernel
-from ._closure import close_holes
 from ._mesh import prepare
 from ._result import AriaDNEResult
-from ._winding import inside
+from ._sign import SIGN_METHODS, check_sign_method, convex_vertices  # noqa: F401 (re-export)
 
 DISTANCE_TYPES = ("euclidean", "geodesic")
-SIGN_METHODS = ("centroid",)
 
 #: A vertex with this many neighbours or fewer (itself included) gets a warning.
 MIN_RELIABLE_NEIGHBOURS = 3
@@ -105,10 +103,15 @@ def ariaDNE(  # noqa: N802 -- the paper's name
     precomputed_dist : (n, n) array_like, optional
         A symmetric matrix of distances between the cleaned mesh's vertices;
         when given, ``distance_type`` is ignored.
-    sign_method : {"centroid"}, default "centroid"
-        ``"centroid"``: the sign is + where the neighbourhood's weighted
-        centroid lies inside the closed surface (holes capped first), decided
-        by an exact generalised winding number.
+    sign_method : {"centroid", "winding", "mean_curvature", "gaussian_curvature"}
+        How the sign is decided (default ``"centroid"``, the paper's method):
+        ``"centroid"``: + where the neighbourhood's weighted centroid lies
+        inside the closed surface (holes capped first), by an exact
+        generalised winding number; ``"winding"``: the same centroid, + where
+        the winding number of the mesh as given (holes open) exceeds 1/2 in
+        magnitude; ``"mean_curvature"`` / ``"gaussian_curvature"``: the sign of
+        trimesh's discrete curvature measure of the ball of radius
+        ``bandwidth`` about the vertex on the unit-area mesh (see ``_sign``).
 
     Returns
     -------
@@ -149,8 +152,7 @@ def ariaDNE(  # noqa: N802 -- the paper's name
     cutoff = _check_number("cutoff", cutoff, low=0, high=1, low_open=False, high_open=True)
     if precomputed_dist is None:
         distance_type = _check_distance_type(distance_type)
-    if sign_method not in SIGN_METHODS:
-        raise ValueError(f"sign_method must be one of {SIGN_METHODS}; got {sign_method!r}")
+    sign_method = check_sign_method(sign_method)
 
     prepared = prepare(mesh)
     points = prepared.points
@@ -175,8 +177,7 @@ def ariaDNE(  # noqa: N802 -- the paper's name
         )
 
     bending = unsigned_bending(moments.covariance, prepared.normals)
-    closed_vertices, closed_faces = close_holes(points, faces)
-    convex = inside(closed_vertices, closed_faces, moments.centroid(points))
+    convex = convex_vertices(sign_method, points, faces, moments.centroid(points), bandwidth)
     local_curvature = np.where(convex, bending, -bending)
     local_dne = local_curvature * prepared.vertex_area
     positive = local_dne >= 0

@@ -61,8 +61,11 @@ class AriaDNEResult:
     distance_type : str
         ``"euclidean"``, ``"geodesic"`` or ``"precomputed"``.
     sign_method : str
-        How the sign was decided (``"centroid"``: weighted centroid inside the
-        closed surface, by exact generalised winding number).
+        How the sign was decided: ``"centroid"`` (weighted centroid inside the
+        closed surface, by exact generalised winding number), ``"winding"``
+        (the same centroid against the mesh as given, holes open),
+        ``"mean_curvature"`` or ``"gaussian_curvature"`` (sign of trimesh's
+        discrete curvature measure in a ball of radius ``bandwidth``).
     mesh : trimesh.Trimesh
         The cleaned mesh the per-vertex values refer to (a private copy).
     """
