@@ -10,16 +10,23 @@ ridges) and concave (valleys, basins) parts.
 """
 
 from ._ariadne import ariaDNE
+from ._batch import compute_batch, to_dataframe
 from ._classic import ClassicDNEResult, classic_dne
+from ._inputs import find_mesh_files
 from ._mesh import load_mesh
+from ._output import COLUMNS
 from ._result import AriaDNEResult
 from ._version import __version__
 
 __all__ = [
+    "COLUMNS",
     "AriaDNEResult",
     "ClassicDNEResult",
     "__version__",
     "ariaDNE",
     "classic_dne",
+    "compute_batch",
+    "find_mesh_files",
     "load_mesh",
+    "to_dataframe",
 ]
