@@ -199,7 +199,7 @@ def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[
         for task in tasks:
             future = client.submit(compute_task, task, settings, pure=False)
             futures[future] = task
-        for future in as_completed(list(futures)):
+        for future in as_completed(list(futures), loop=client.loop):
             try:
                 yield future.result()
             except Exception as exc:  # the task itself never raises: this is the cluster

@@ -119,11 +119,7 @@ def find_mesh_files(inputs: Iterable[str | os.PathLike]) -> FoundInputs:
             if not files:
                 unmatched.append(path)
             candidates.extend(files)
-    seen: set[str] = set()
-    unique = []
-    for path in sorted(candidates):
-        key = _key(path)
-        if key not in seen:
-            seen.add(key)
-            unique.append(path)
-    return FoundInputs(files=unique, unmatched=unmatched)
+    chosen: dict[str, str] = {}  # one spelling per file: the shortest ("a.ply", not "./a.ply")
+    for path in sorted(candidates, key=lambda p: (len(p), p)):
+        chosen.setdefault(_key(path), path)
+    return FoundInputs(files=sorted(chosen.values()), unmatched=unmatched)

@@ -1,0 +1,158 @@
+"""The batch API: finding files, computing many meshes, tables read back exactly."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+import trimesh
+
+from signdne import COLUMNS, ariaDNE, compute_batch, find_mesh_files, to_dataframe
+from signdne._output import atomic_write, read_table, write_table
+from signdne.samples import tooth
+
+
+@pytest.fixture
+def folder(tmp_path):
+    tooth(rings=10).export(tmp_path / "b_tooth.ply")
+    trimesh.creation.icosphere(subdivisions=2).export(tmp_path / "a_sphere.obj")
+    (tmp_path / "sub").mkdir()
+    tooth(rings=12).export(tmp_path / "sub" / "c_tooth.stl")
+    (tmp_path / "sub" / "d_bad.ply").write_text("not a mesh")
+    return tmp_path
+
+
+def without_seconds(records):
+    return [{k: v for k, v in r.items() if k != "seconds"} for r in records]
+
+
+def test_records_are_sorted_rows_with_the_librarys_numbers(folder):
+    records = compute_batch(folder)
+    assert [os.path.relpath(r["file"], folder) for r in records] == [
+        "a_sphere.obj",
+        "b_tooth.ply",
+        os.path.join("sub", "c_tooth.stl"),
+        os.path.join("sub", "d_bad.ply"),
+    ]
+    for record in records[:3]:
+        assert list(record) == list(COLUMNS)
+        assert record["status"] == "ok" and record["error"] is None
+        expected = ariaDNE(record["file"]).to_dict()
+        assert {k: record[k] for k in expected} == expected
+    bad = records[3]
+    assert bad["status"] == "error" and bad["error"]
+    assert all(bad[name] is None for name in COLUMNS[1:13])
+
+
+def test_jobs_2_is_identical_to_jobs_1(folder):
+    one = compute_batch(folder, jobs=1)
+    two = compute_batch(folder, jobs=2)
+    assert without_seconds(one) == without_seconds(two)
+
+
+def test_progress_is_called_once_per_file(folder):
+    seen = []
+    compute_batch(folder, progress=lambda done, total, record: seen.append((done, total)))
+    assert seen == [(1, 4), (2, 4), (3, 4), (4, 4)]
+
+
+def test_resume_from_records_skips_matching_ok_rows(folder):
+    first = compute_batch(folder)
+    marked = [dict(r, dne=-1.0) if r["status"] == "ok" else r for r in first]
+    again = compute_batch(folder, resume_from=marked)
+    assert [r["dne"] for r in again[:3]] == [-1.0, -1.0, -1.0]  # reused, not recomputed
+    assert again[3]["status"] == "error"  # retried (and still bad)
+    other = compute_batch(folder, resume_from=marked, cutoff=0.01)
+    assert all(r["dne"] != -1.0 for r in other[:3])  # other settings: recomputed
+
+
+def test_warnings_name_the_file(tmp_path):
+    trimesh.creation.icosphere(subdivisions=2).export(tmp_path / "tiny_kernel.ply")
+    with pytest.warns(UserWarning, match="tiny_kernel.ply: .* neighbours"):
+        compute_batch(tmp_path, bandwidth=0.01)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"bandwidth": -1.0}, "bandwidth"),
+        ({"cutoff": 1.0}, "cutoff"),
+        ({"distance_type": "taxicab"}, "distance_type"),
+        ({"jobs": -2}, "jobs"),
+        ({"threads": 0}, "threads"),
+    ],
+)
+def test_bad_options_raise_before_any_work(folder, options, message):
+    with pytest.raises(ValueError, match=message):
+        compute_batch(folder, **options)
+
+
+def test_no_mesh_files_raises(tmp_path):
+    with pytest.raises(ValueError, match="no mesh files found"):
+        compute_batch(tmp_path)
+
+
+def test_to_dataframe_keeps_the_column_order(folder):
+    frame = to_dataframe(compute_batch(folder))
+    assert tuple(frame.columns) == COLUMNS
+    assert frame["status"].tolist() == ["ok", "ok", "ok", "error"]
+
+
+def test_find_mesh_files_dedupes_links_and_skips_hidden_and_own_outputs(tmp_path):
+    tooth(rings=6).export(tmp_path / "a.ply")
+    os.symlink(tmp_path / "a.ply", tmp_path / "link_to_a.ply")
+    (tmp_path / ".hidden.ply").write_bytes(b"")
+    (tmp_path / "a.signdne.ply").write_bytes(b"")
+    (tmp_path / "a.signdne.csv").write_text("")
+    (tmp_path / "readme.txt").write_text("")
+    found = find_mesh_files([tmp_path, tmp_path / "a.ply", str(tmp_path / "*.ply")])
+    assert found.files == [str(tmp_path / "a.ply")]
+    assert found.unmatched == []
+    assert find_mesh_files([str(tmp_path / "*.obj")]).unmatched == [str(tmp_path / "*.obj")]
+    # a file named explicitly is kept whatever its extension
+    assert find_mesh_files([tmp_path / "readme.txt"]).files == [str(tmp_path / "readme.txt")]
+
+
+@pytest.mark.parametrize("ext", ["csv", "json"])
+def test_tables_read_back_exactly(tmp_path, folder, ext):
+    records = compute_batch(folder)
+    path = tmp_path / f"table.{ext}"
+    write_table(path, records)
+    assert read_table(path) == records
+
+
+def test_read_table_rejects_other_files(tmp_path):
+    path = tmp_path / "other.csv"
+    path.write_text("a,b\n1,2\n")
+    with pytest.raises(ValueError, match="not a signDNE results table"):
+        read_table(path)
+
+
+def test_atomic_write_leaves_the_old_file_when_writing_fails(tmp_path):
+    path = tmp_path / "out.csv"
+    path.write_text("old\n")
+
+    def fail_halfway(stream):
+        stream.write("new, partial")
+        raise RuntimeError("boom")
+
+    with pytest.raises(RuntimeError):
+        atomic_write(path, fail_halfway)
+    assert path.read_text() == "old\n"
+    assert os.listdir(tmp_path) == ["out.csv"]
+    atomic_write(path, lambda stream: stream.write("new\n"))
+    assert path.read_text() == "new\n"
+
+
+def test_per_vertex_dir_must_exist(folder, tmp_path):
+    with pytest.raises(ValueError, match="per_vertex_dir"):
+        compute_batch(folder, per_vertex_dir=tmp_path / "missing")
+
+
+def test_caller_list_is_not_modified(folder):
+    paths = [folder / "b_tooth.ply", folder / "a_sphere.obj"]
+    copy = list(paths)
+    records = compute_batch(paths)
+    assert paths == copy
+    assert np.isfinite([r["dne"] for r in records]).all()
