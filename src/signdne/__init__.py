@@ -16,17 +16,35 @@ from ._inputs import find_mesh_files
 from ._mesh import load_mesh
 from ._output import COLUMNS
 from ._result import AriaDNEResult
+from ._robustness import (
+    BandwidthSweep,
+    RobustnessStudy,
+    bandwidth_sweep,
+    perturb,
+    robustness_study,
+    sign_agreement,
+    write_study,
+    write_sweep,
+)
 from ._version import __version__
 
 __all__ = [
     "COLUMNS",
     "AriaDNEResult",
+    "BandwidthSweep",
     "ClassicDNEResult",
+    "RobustnessStudy",
     "__version__",
     "ariaDNE",
+    "bandwidth_sweep",
     "classic_dne",
     "compute_batch",
     "find_mesh_files",
     "load_mesh",
+    "perturb",
+    "robustness_study",
+    "sign_agreement",
     "to_dataframe",
+    "write_study",
+    "write_sweep",
 ]

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from numbers import Real
 
 import numpy as np
+import trimesh
 
 from ._closure import boundary_edges
 from ._mesh import as_arrays
@@ -85,6 +86,8 @@ class ClassicDNEResult:
         molaR's per-face curvature value on the rescaled mesh (1/length).
     excluded : (m,) bool
         True for faces whose energy is set to zero as boundary faces or outliers.
+    mesh : trimesh.Trimesh
+        The mesh the per-face arrays refer to, in mesh units (a private copy).
     """
 
     dne: float
@@ -106,6 +109,7 @@ class ClassicDNEResult:
     face_dne: np.ndarray = field(repr=False, compare=False)
     face_kappa: np.ndarray = field(repr=False, compare=False)
     excluded: np.ndarray = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(repr=False, compare=False)
 
     @property
     def convex(self) -> np.ndarray:
@@ -391,4 +395,5 @@ def classic_dne(
         face_dne=face_dne,
         face_kappa=values,
         excluded=excluded,
+        mesh=trimesh.Trimesh(vertices, faces, process=False),
     )

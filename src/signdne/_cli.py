@@ -47,6 +47,8 @@ SCHEDULER_ENV = "SIGNDNE_SCHEDULER"
 # been imported).  Only the first argument is matched, exactly: a mesh file that happens to be
 # called like a subcommand is given as ``./robustness``.
 SUBCOMMANDS: dict[str, str | Callable[[list[str]], int]] = {}
+SUBCOMMANDS["robustness"] = "signdne._study_cli:robustness_main"
+SUBCOMMANDS["sweep"] = "signdne._study_cli:sweep_main"
 
 #: Columns of the table printed on stdout when no --output is given.
 TABLE_COLUMNS = (
