@@ -9,7 +9,8 @@
   |value| over the row, so colours compare along a row.  ariaDNE cells show
   ``local_curvature`` (per vertex, averaged per face); classic DNE cells show
   the face energy density signed by molaR's convex/concave class (excluded
-  faces at zero).
+  faces at zero), each cell scaled by its own percentile, because the density
+  itself grows with the resolution.
 * `totals_bars`: one bar chart per method of DNE, positive and negative
   totals normalised by the original mesh, and the sign agreement (the
   paper's Figure 5).
@@ -83,6 +84,10 @@ def draw_mesh(ax, vertices, faces, values, *, basis, limit, cmap=CMAP) -> None:
     ax.set_axis_off()
 
 
+def _limit(values: np.ndarray) -> float:
+    return float(np.percentile(np.abs(values), PERCENTILE)) or 1.0
+
+
 def sign_grid(grid: Mapping[str, Sequence], column_labels: Sequence[str]):
     """Rows of coloured meshes: ``grid[method]`` is one result per column.
 
@@ -102,9 +107,12 @@ def sign_grid(grid: Mapping[str, Sequence], column_labels: Sequence[str]):
     basis = view_basis(np.asarray(first.vertices, float), np.asarray(first.faces, np.int64))
     for r, method in enumerate(methods):
         values = [face_values(result) for result in grid[method]]
-        limit = float(np.percentile(np.abs(np.concatenate(values)), PERCENTILE)) or 1.0
+        per_cell = all(isinstance(result, ClassicDNEResult) for result in grid[method])
+        limit = _limit(np.concatenate(values))
         for c, (result, value) in enumerate(zip(grid[method], values, strict=True)):
             mesh = result.mesh
+            if per_cell:
+                limit = _limit(value)
             draw_mesh(
                 axes[r, c],
                 np.asarray(mesh.vertices, float),
@@ -126,9 +134,13 @@ def sign_grid(grid: Mapping[str, Sequence], column_labels: Sequence[str]):
             fontsize=9,
         )
         bar = figure.colorbar(
-            ScalarMappable(Normalize(-limit, limit), CMAP), ax=axes[r, -1], shrink=0.8
+            ScalarMappable(Normalize(-1 if per_cell else -limit, 1 if per_cell else limit), CMAP),
+            ax=axes[r, -1],
+            shrink=0.8,
         )
         bar.ax.tick_params(labelsize=7)
+        if per_cell:
+            bar.set_label("per mesh, / 98th pct.", fontsize=7)
     return figure
 
 
