@@ -165,6 +165,7 @@ def _run_local(tasks: Sequence[Task], settings: Settings, jobs: int) -> Iterator
     if settings.threads is None:  # share the cores among the workers
         settings = replace(settings, threads=max(1, available_cores() // min(jobs, len(tasks))))
     futures = {pool.submit(compute_task, task, settings): task for task in tasks}
+    finished = False
     try:
         for future in as_completed(futures):
             try:
@@ -173,12 +174,14 @@ def _run_local(tasks: Sequence[Task], settings: Settings, jobs: int) -> Iterator
                 task = futures[future]
                 reason = "a worker process died (out of memory?); rerun with --resume to retry"
                 yield Outcome(task.index, error_record(task.file, reason))
-    finally:  # normal end, Ctrl-C, or the consumer stopped early
-        processes = list((getattr(pool, "_processes", None) or {}).values())
-        pool.shutdown(wait=False, cancel_futures=True)
-        for process in processes:  # a running mesh may take long: do not wait for it
-            if process.is_alive():
-                process.terminate()
+        finished = True
+    finally:
+        if not finished:  # Ctrl-C, or the consumer stopped early: stop the workers now
+            processes = list((getattr(pool, "_processes", None) or {}).values())
+            pool.shutdown(wait=False, cancel_futures=True)
+            for process in processes:  # a running mesh may take long: do not wait for it
+                if process.is_alive():
+                    process.terminate()
         pool.shutdown(wait=True)
 
 
