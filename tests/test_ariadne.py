@@ -178,6 +178,7 @@ def test_result_record(tooth):
         "cutoff",
         "distance_type",
         "sign_method",
+        "method",
     ]
     assert row["bandwidth"] == 0.1 and row["distance_type"] == "euclidean"
     assert row["sign_method"] == "centroid"

@@ -30,7 +30,7 @@ COLUMNS = ("file", *SCALAR_FIELDS, "seconds", "status", "error")
 FORMATS = {".csv": "csv", ".json": "json"}
 
 _INTEGER_COLUMNS = frozenset({"vertices", "faces"})
-_TEXT_COLUMNS = frozenset({"file", "distance_type", "sign_method", "status", "error"})
+_TEXT_COLUMNS = frozenset({"file", "distance_type", "sign_method", "method", "status", "error"})
 
 
 def output_format(path: str | os.PathLike) -> str:

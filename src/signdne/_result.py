@@ -21,6 +21,7 @@ SCALAR_FIELDS = (
     "cutoff",
     "distance_type",
     "sign_method",
+    "method",
 )
 
 
@@ -66,6 +67,10 @@ class AriaDNEResult:
         (the same centroid against the mesh as given, holes open),
         ``"mean_curvature"`` or ``"gaussian_curvature"`` (sign of trimesh's
         discrete curvature measure in a ball of radius ``bandwidth``).
+    method : str
+        How the Euclidean kernel sums were computed: ``"exact"`` (blocked
+        sums over every neighbour within the kernel's reach) or ``"fast"``
+        (fast Gauss transform by non-uniform FFT, for large meshes).
     mesh : trimesh.Trimesh
         The cleaned mesh the per-vertex values refer to (a private copy).
     """
@@ -85,6 +90,7 @@ class AriaDNEResult:
     distance_type: str
     sign_method: str
     mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    method: str = "exact"
 
     def to_dict(self) -> dict:
         """The scalar fields as a plain dict (one row of a results table)."""

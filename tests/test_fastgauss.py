@@ -1,0 +1,127 @@
+"""The fast Gauss transform path (method="fast") against the exact kernel sums."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+import trimesh
+
+from signdne import _fastgauss, _kernel, ariaDNE
+from signdne._mesh import prepare
+from signdne.samples import tooth as make_tooth
+
+pytest.importorskip("finufft")
+
+
+@pytest.fixture(scope="module")
+def noisy_tooth():
+    """A crown of about 11k vertices with seeded sub-edge-length noise."""
+    mesh = make_tooth(rings=60)
+    rng = np.random.default_rng(0)
+    vertices = mesh.vertices + rng.normal(scale=2e-3, size=mesh.vertices.shape)
+    return trimesh.Trimesh(vertices, mesh.faces, process=False)
+
+
+def test_moments_match_exact_sums(noisy_tooth):
+    points = prepare(noisy_tooth).points
+    h = 0.08
+    exact = _kernel.euclidean_moments(points, h, 0.0)
+    fast = _fastgauss.fast_euclidean_moments(points, h)
+    assert np.max(np.abs(fast.weight - exact.weight) / exact.weight) < 1e-8
+    trace = np.trace(exact.covariance, axis1=1, axis2=2)
+    cov_error = np.abs(fast.covariance - exact.covariance).reshape(-1, 9).max(axis=1)
+    assert np.max(cov_error / trace) < 1e-8
+    centroid_error = np.abs(fast.centroid(points) - exact.centroid(points)).max()
+    assert centroid_error < 1e-8 * h
+    # counts: exact below 4, "4 or more" above (they only feed the warning)
+    assert np.all(fast.count == np.minimum(exact.count, 4))
+
+
+@pytest.mark.parametrize("bandwidth", [0.05, 0.08, 0.15])
+def test_totals_and_signs_match_exact(noisy_tooth, bandwidth):
+    exact = ariaDNE(noisy_tooth, bandwidth=bandwidth, method="exact")
+    fast = ariaDNE(noisy_tooth, bandwidth=bandwidth, method="fast")
+    assert (exact.method, fast.method) == ("exact", "fast")
+    for name in ("dne", "positive_dne", "negative_dne"):
+        assert getattr(fast, name) == pytest.approx(getattr(exact, name), rel=1e-8, abs=1e-12)
+    same_sign = np.sign(fast.local_curvature) == np.sign(exact.local_curvature)
+    assert same_sign.mean() >= 0.9999
+    np.testing.assert_allclose(
+        np.abs(fast.local_curvature), np.abs(exact.local_curvature), rtol=0, atol=1e-8
+    )
+
+
+def test_fast_on_a_closed_surface():
+    sphere = trimesh.creation.icosphere(subdivisions=4)
+    exact = ariaDNE(sphere, method="exact")
+    fast = ariaDNE(sphere, method="fast")
+    assert fast.dne == pytest.approx(exact.dne, rel=1e-8)
+    assert fast.negative_dne == 0.0
+
+
+def test_auto_picks_by_size(sphere, monkeypatch):
+    assert ariaDNE(sphere).method == "exact"  # small: exact
+    assert ariaDNE(sphere).to_dict()["method"] == "exact"
+    monkeypatch.setattr(_fastgauss, "AUTO_FAST_VERTICES", 100)
+    assert ariaDNE(sphere).method == "fast"
+    # auto never picks fast where it cannot apply
+    assert ariaDNE(sphere, cutoff=0.1).method == "exact"
+    assert ariaDNE(sphere, distance_type="geodesic").method == "exact"
+
+
+def test_method_is_case_insensitive(sphere):
+    assert ariaDNE(sphere, method="EXACT").method == "exact"
+
+
+@pytest.mark.parametrize("bad", ["quick", "", None, 1])
+def test_bad_method_raises(sphere, bad):
+    with pytest.raises(ValueError, match="method must be one of"):
+        ariaDNE(sphere, method=bad)
+
+
+def test_fast_refuses_a_cutoff(sphere):
+    with pytest.raises(ValueError, match="cutoff"):
+        ariaDNE(sphere, cutoff=0.01, method="fast")
+
+
+def test_fast_refuses_geodesic_and_precomputed(sphere):
+    with pytest.raises(ValueError, match="Euclidean"):
+        ariaDNE(sphere, distance_type="geodesic", method="fast")
+    n = len(sphere.vertices)
+    distances = np.linalg.norm(sphere.vertices[:, None] - sphere.vertices[None], axis=2)
+    assert distances.shape == (n, n)
+    with pytest.raises(ValueError, match="Euclidean"):
+        ariaDNE(sphere, precomputed_dist=distances, method="fast")
+
+
+def test_too_small_bandwidth_is_refused(sphere, monkeypatch):
+    monkeypatch.setattr(_fastgauss, "MAX_MODES", 1000)
+    with pytest.raises(ValueError, match="too small for the fast transform"):
+        ariaDNE(sphere, method="fast")
+    monkeypatch.setattr(_fastgauss, "AUTO_FAST_VERTICES", 10)
+    assert ariaDNE(sphere).method == "exact"
+
+
+def test_without_finufft(sphere, monkeypatch):
+    monkeypatch.setitem(sys.modules, "finufft", None)  # import finufft now fails
+    with pytest.raises(ImportError, match=r"signdne\[fast\]"):
+        ariaDNE(sphere, method="fast")
+    monkeypatch.setattr(_fastgauss, "AUTO_FAST_VERTICES", 10)
+    assert ariaDNE(sphere).method == "exact"
+
+
+def test_progress_reports_phases(sphere):
+    seen = []
+    ariaDNE(sphere, progress=seen.append)
+    assert seen == ["prepare", "kernel", "bending", "sign", "totals"]
+
+
+def test_few_neighbours_warning_on_fast_path():
+    # a dense sphere and a far-away lone triangle: its 3 vertices have 3 neighbours
+    sphere = trimesh.creation.icosphere(subdivisions=3)
+    lone = trimesh.Trimesh([[4.0, 0, 0], [4.1, 0, 0], [4.0, 0.1, 0]], [[0, 1, 2]])
+    mesh = trimesh.util.concatenate([sphere, lone])
+    with pytest.warns(UserWarning, match="3 of"):
+        ariaDNE(mesh, method="fast")
