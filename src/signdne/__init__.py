@@ -12,9 +12,18 @@ ridges) and concave (valleys, basins) parts.
 from ._ariadne import ariaDNE
 from ._batch import compute_batch, to_dataframe
 from ._classic import ClassicDNEResult, classic_dne
+from ._colors import ColorScale, color_scale, diverging_rgb
 from ._inputs import find_mesh_files
+from ._measure_sign import curvature_measure, curvature_measure_sign, measure_radius
 from ._mesh import load_mesh
 from ._output import COLUMNS
+from ._render import (  # pyvista is imported only when a picture is drawn
+    DisplayUnavailableError,
+    render_bandwidths,
+    render_comparison,
+    render_curvature,
+    render_panel,
+)
 from ._result import AriaDNEResult
 from ._robustness import (
     BandwidthSweep,
@@ -33,15 +42,26 @@ __all__ = [
     "AriaDNEResult",
     "BandwidthSweep",
     "ClassicDNEResult",
+    "ColorScale",
+    "DisplayUnavailableError",
     "RobustnessStudy",
     "__version__",
     "ariaDNE",
     "bandwidth_sweep",
     "classic_dne",
+    "color_scale",
     "compute_batch",
+    "curvature_measure",
+    "curvature_measure_sign",
+    "diverging_rgb",
     "find_mesh_files",
     "load_mesh",
+    "measure_radius",
     "perturb",
+    "render_bandwidths",
+    "render_comparison",
+    "render_curvature",
+    "render_panel",
     "robustness_study",
     "sign_agreement",
     "to_dataframe",
