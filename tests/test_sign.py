@@ -94,3 +94,17 @@ def test_outward_faces_gives_positive_volume(sphere):
 def test_unknown_sign_method(sphere, bad):
     with pytest.raises(ValueError, match="sign_method"):
         ariaDNE(sphere, sign_method=bad)
+
+
+def test_command_sign_method(tmp_path):
+    import csv
+
+    from signdne._cli import main
+    from signdne.samples import sample_paths
+
+    out = tmp_path / "out.csv"
+    assert main([str(sample_paths()["sphere"]), "--sign-method", "Winding", "-o", str(out)]) == 0
+    with open(out, newline="") as handle:
+        (row,) = list(csv.DictReader(handle))
+    assert row["sign_method"] == "winding"
+    assert float(row["negative_dne"]) == 0.0

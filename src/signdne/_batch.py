@@ -13,8 +13,10 @@ checks ``jobs=2`` against ``jobs=1`` bit for bit).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
+import threading
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -25,6 +27,7 @@ import numpy as np
 from ._ariadne import _check_distance_type, _check_number, ariaDNE
 from ._inputs import find_mesh_files
 from ._output import COLUMNS, per_vertex_names, read_table, write_per_vertex
+from ._sign import check_sign_method
 
 #: ``progress(done, total, record)`` is called after each file.
 ProgressCallback = Callable[[int, int, dict], None]
@@ -43,6 +46,7 @@ class Settings:
     bandwidth: float = 0.08
     cutoff: float = 0.0
     distance_type: str = "euclidean"
+    sign_method: str = "centroid"
     threads: int | None = None  # numba threads per mesh; None: numba's default
 
     def options(self) -> dict:
@@ -146,6 +150,19 @@ def _ignore_interrupts() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+@contextlib.contextmanager
+def _interrupts_ignored():
+    """Ignore SIGINT in this process for a moment (processes started meanwhile inherit it)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _run_local(tasks: Sequence[Task], settings: Settings, jobs: int) -> Iterator[Outcome]:
     if jobs <= 1 or len(tasks) <= 1:
         for task in tasks:
@@ -164,7 +181,8 @@ def _run_local(tasks: Sequence[Task], settings: Settings, jobs: int) -> Iterator
     )
     if settings.threads is None:  # share the cores among the workers
         settings = replace(settings, threads=max(1, available_cores() // min(jobs, len(tasks))))
-    futures = {pool.submit(compute_task, task, settings): task for task in tasks}
+    with _interrupts_ignored():  # workers start with Ctrl-C ignored, even while importing
+        futures = {pool.submit(compute_task, task, settings): task for task in tasks}
     finished = False
     try:
         for future in as_completed(futures):
@@ -275,6 +293,7 @@ def make_settings(
     bandwidth: float = 0.08,
     cutoff: float = 0.0,
     distance_type: str = "euclidean",
+    sign_method: str = "centroid",
     threads: int | None = None,
 ) -> Settings:
     """Validated batch settings (the same checks as ``ariaDNE``, made once up front).
@@ -296,6 +315,7 @@ def make_settings(
         bandwidth=bandwidth,
         cutoff=cutoff,
         distance_type=_check_distance_type(distance_type),
+        sign_method=check_sign_method(sign_method),
         threads=threads,
     )
 
@@ -312,6 +332,7 @@ def compute_batch(
     bandwidth: float = 0.08,
     cutoff: float = 0.0,
     distance_type: str = "euclidean",
+    sign_method: str = "centroid",
     jobs: int = 1,
     threads: int | None = None,
     scheduler=None,
@@ -327,7 +348,7 @@ def compute_batch(
         Mesh files, directories (searched recursively for the formats trimesh
         reads; hidden entries skipped) and shell-style glob patterns.  A file
         reached twice is computed once.
-    bandwidth, cutoff, distance_type
+    bandwidth, cutoff, distance_type, sign_method
         As for :func:`signdne.ariaDNE`.
     jobs : int, default 1
         Worker processes; 0 uses every core.  Results do not depend on it.
@@ -383,7 +404,11 @@ def compute_batch(
         )
     jobs = _check_jobs(jobs)
     settings = make_settings(
-        bandwidth=bandwidth, cutoff=cutoff, distance_type=distance_type, threads=threads
+        bandwidth=bandwidth,
+        cutoff=cutoff,
+        distance_type=distance_type,
+        sign_method=sign_method,
+        threads=threads,
     )
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
         raise ValueError(f"per_vertex_dir {os.fspath(per_vertex_dir)!r} is not a directory")

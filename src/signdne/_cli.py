@@ -30,6 +30,7 @@ from ._batch import (
 )
 from ._inputs import find_mesh_files
 from ._output import output_format, read_table, write_table
+from ._sign import SIGN_METHODS
 from ._version import __version__
 from .samples import sample_paths
 
@@ -115,6 +116,13 @@ def build_parser() -> argparse.ArgumentParser:
         choices=("euclidean", "geodesic"),
         default="euclidean",
         help="distance between vertices (default euclidean)",
+    )
+    compute.add_argument(
+        "--sign-method",
+        type=str.lower,
+        choices=SIGN_METHODS,
+        default="centroid",
+        help="how the sign is decided (default centroid, the paper's method)",
     )
     run = parser.add_argument_group("running")
     run.add_argument(
@@ -354,7 +362,10 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         settings = make_settings(
-            bandwidth=args.bandwidth, cutoff=args.cutoff, distance_type=args.distance_type
+            bandwidth=args.bandwidth,
+            cutoff=args.cutoff,
+            distance_type=args.distance_type,
+            sign_method=args.sign_method,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
