@@ -188,10 +188,10 @@ def _run_local(tasks: Sequence[Task], settings: Settings, jobs: int) -> Iterator
         for future in as_completed(futures):
             try:
                 yield future.result()
-            except BrokenProcessPool:
+            except BrokenProcessPool as exc:  # a worker crashed, or could not start
                 task = futures[future]
-                reason = "a worker process died (out of memory?); rerun with --resume to retry"
-                yield Outcome(task.index, error_record(task.file, reason))
+                reason = f"worker process failed ({exc}); rerun with --resume to retry"
+                yield Outcome(task.index, error_record(task.file, " ".join(reason.split())))
         finished = True
     finally:
         if not finished:  # Ctrl-C, or the consumer stopped early: stop the workers now
