@@ -12,11 +12,11 @@ ours (see ``PUBLISHED_OUTPUTS``) and that identification is checked on every cal
 
 Every run of either implementation is a fresh subprocess that imports its package, loads the
 mesh with ``trimesh.load`` defaults, makes one warm-up call on a tiny mesh (for ours this loads
-numba's on-disk compilation cache; the published package gets the same courtesy), and then times
-exactly one call on the mesh with ``time.perf_counter``: imports, mesh loading and the warm-up
-are excluded.  Memory is the process's peak resident set size (``ru_maxrss``) and its increase
-over the resident set size right before the timed call.  Reported numbers are medians over the
-repetitions.
+numba's on-disk compilation cache, including the exact winding-number fallback; the published
+package gets the same warm-up call), and then times exactly one call on the mesh with
+``time.perf_counter``: imports, mesh loading and the warm-up are excluded.  Memory is the
+process's peak resident set size (``ru_maxrss``) and its increase over the resident set size
+right before the timed call.  Reported numbers are medians over the repetitions.
 
 The shared meshes are read from ``../shared/data/meshes`` beside the checkout (``--data`` to
 change).  Nothing here is a test: timings depend on the machine and its load.
@@ -206,6 +206,21 @@ class _StageTimer:
         return timed
 
 
+def _preload_exact_fallback(mesh) -> None:
+    """Load the compiled exact winding-number fallback too (best effort, private name).
+
+    The warm-up call only runs it if some centroid is ambiguous; a mesh that needs it would
+    otherwise pay for loading it from numba's cache inside the timed call.
+    """
+    import numpy as np
+
+    try:
+        from signdne._winding import exact_winding_number
+    except ImportError:
+        return
+    exact_winding_number(np.asarray(mesh.vertices), np.asarray(mesh.faces), np.zeros((1, 3)))
+
+
 def worker(impl: str, mesh_path: str, out_path: str, stages: bool) -> None:
     """Time one call of one implementation on one mesh; write everything to ``out_path``."""
     import warnings
@@ -228,7 +243,10 @@ def worker(impl: str, mesh_path: str, out_path: str, stages: bool) -> None:
     mesh = trimesh.load(mesh_path)
     load_seconds = time.perf_counter() - start
 
-    run(_tiny_open_mesh())  # warm-up: loads numba's compiled-code cache (ours)
+    tiny = _tiny_open_mesh()
+    run(tiny)  # warm-up: loads numba's compiled-code cache (ours)
+    if impl == "ours":
+        _preload_exact_fallback(tiny)
     timer = None
     if stages and impl == "ours":
         timer = _StageTimer()
@@ -353,6 +371,21 @@ def known_published_errors(data: Path) -> dict[str, list[int]]:
     return {name: list(entry.get("published_sign_wrong_at", [])) for name, entry in meshes.items()}
 
 
+def run_to_run(runs):
+    """How much one implementation's outputs vary between its runs on one mesh."""
+    import numpy as np
+
+    first = runs[0][0]
+    flipped, largest = set(), 0.0
+    for out, _ in runs[1:]:
+        a, b = first["local_curvature"], out["local_curvature"]
+        flipped.update(np.flatnonzero((a >= 0) != (b >= 0)).tolist())
+        largest = max(largest, float(np.max(np.abs(np.abs(a) - np.abs(b)))))
+        for name in SCALARS:
+            largest = max(largest, abs(float(first[name]) - float(out[name])))
+    return {"sign_flips": sorted(flipped), "largest_difference": largest}
+
+
 def _sign_notes(results, known) -> list[str]:
     notes = []
     for name, entry in results.items():
@@ -361,19 +394,24 @@ def _sign_notes(results, known) -> list[str]:
             continue
         expected = set(known.get(name, []))
         for vertex in sorted(expected):
-            said = entry["published_signs"].get(str(vertex), "?")
             ours = entry["our_signs"].get(str(vertex), "?")
-            verdict = (
-                "differs from ours" if vertex in diff["sign_differences"] else "agrees this time"
-            )
+            published = entry["published_signs"].get(str(vertex), "?")
             notes.append(
-                f"{name} vertex {vertex}: a known error of the published ray test (reference "
-                f"data); ours says {ours} (exact winding number), this published run said "
-                f"{said}: {verdict}."
+                f"{name} vertex {vertex}: the reference data records the published ray test as "
+                f"wrong here; ours says {ours} (exact winding number), the published runs said "
+                f"{published}."
             )
         unexpected = sorted(set(diff["sign_differences"]) - expected)
         if unexpected:
             notes.append(f"{name}: sign differences not known from the reference: {unexpected}")
+        for who in ("published", "ours"):
+            variation = entry[f"{who}_run_to_run"]
+            if variation["sign_flips"] or variation["largest_difference"] > 0:
+                notes.append(
+                    f"{name}: {who} outputs vary between runs: signs at vertices "
+                    f"{variation['sign_flips']}, other outputs by up to "
+                    f"{variation['largest_difference']:.1e}."
+                )
     return notes
 
 
@@ -420,6 +458,8 @@ def report(results, args):
                 f"{pub['seconds']:.2f}",
                 f"{ours['seconds']:.3f}",
                 f"{pub['seconds'] / ours['seconds']:.0f}x",
+                f"{pub['cpu_seconds']:.2f}",
+                f"{ours['cpu_seconds']:.3f}",
                 f"{pub['peak_mb']:.0f} (+{pub['increase_mb']:.0f})",
                 f"{ours['peak_mb']:.0f} (+{ours['increase_mb']:.0f})",
             ]
@@ -444,13 +484,27 @@ def report(results, args):
         f"Compute time in seconds (median of {args.repeat} runs of ours, "
         f"{args.repeat_published} of the published package; each run a fresh process, "
         "imports, mesh loading and one warm-up call on a tiny mesh excluded — the warm-up "
-        "loads numba's on-disk compilation cache for ours); peak memory of the process in MB "
-        "(ru_maxrss), in brackets its increase over the resident set right before the call."
+        "loads numba's on-disk compilation cache for ours; the published package gets one too); "
+        "peak memory of the process in MB "
+        "(ru_maxrss), in brackets its increase over the resident set right before the call. "
+        "CPU s is the process's CPU time during the call, all threads (ours runs numba's "
+        "parallel loops on every core; the published package is mostly single-threaded), a "
+        "steadier measure than wall time on a shared machine."
     )
     print()
     print(
         _format_table(
-            ["mesh", "vertices", "published s", "ours s", "speed-up", "published MB", "ours MB"],
+            [
+                "mesh",
+                "vertices",
+                "published s",
+                "ours s",
+                "speed-up",
+                "published CPU s",
+                "ours CPU s",
+                "published MB",
+                "ours MB",
+            ],
             timing_rows,
         )
     )
@@ -503,8 +557,8 @@ def report_stages(results):
         return
     print()
     print(
-        "Where our time goes, ms (median per stage over the runs; load is trimesh.load and is "
-        "not part of the compute time; other = validation, centroids and totals):"
+        "Where our time goes, ms (the stage-timed run with the median total; load is "
+        "trimesh.load and is not part of the compute time; other = validation, centroids, totals):"
     )
     print()
     print(_format_table(["mesh", "load", *_STAGE_LABELS, "other", "total"], rows))
@@ -578,27 +632,33 @@ def main(argv: list[str] | None = None) -> int:
                 "vertices": len(our_runs[0][0]["local_curvature"]),
                 "published": summarise(pub_runs),
                 "ours": summarise(our_runs),
-                # outputs do not change between runs: compare the first of each
+                # the first run of each; variation between runs is reported separately
                 "diff": compare(pub_runs[0][0], our_runs[0][0]),
             }
-            for label, runs in (("published_signs", pub_runs), ("our_signs", our_runs)):
-                k = runs[0][0]["local_curvature"]
+            for who, label, runs in (
+                ("published", "published_signs", pub_runs),
+                ("ours", "our_signs", our_runs),
+            ):
                 entry[label] = {
-                    str(v): ("+" if k[v] >= 0 else "-") for v in known.get(name, []) if v < len(k)
+                    str(v): ", ".join(
+                        "+" if out["local_curvature"][v] >= 0 else "-" for out, _ in runs
+                    )
+                    for v in known.get(name, [])
+                    if v < entry["vertices"]
                 }
+                entry[f"{who}_run_to_run"] = run_to_run(runs)
             if not args.no_stages:
                 print(", ours with stage timers", end="", flush=True)
                 stage_runs = [
                     run_once(sys.executable, "ours", path, scratch, stages=True)
                     for _ in range(args.repeat)
                 ]
-                metas = [meta for _, meta in stage_runs]
-                labels = {label for m in metas for label in m["stages"]}
-                entry["stages"] = {
-                    label: _median([m["stages"].get(label, 0.0) for m in metas]) for label in labels
-                }
-                entry["stages"]["load"] = _median([m["load_seconds"] for m in metas])
-                entry["stages"]["total"] = _median([m["seconds"] for m in metas])
+                # the breakdown of the run with the median total, so that the stages add up
+                metas = sorted((meta for _, meta in stage_runs), key=lambda m: m["seconds"])
+                middle = metas[(len(metas) - 1) // 2]
+                entry["stages"] = dict(middle["stages"])
+                entry["stages"]["load"] = middle["load_seconds"]
+                entry["stages"]["total"] = middle["seconds"]
                 entry["stages_missing"] = metas[0]["stages_missing"]
             print(f": {entry['published']['seconds']:.1f} s vs {entry['ours']['seconds']:.3f} s")
             results[name] = entry
