@@ -72,3 +72,29 @@ def test_two_holes_get_two_caps():
     vertices, faces = close_holes(sphere.vertices, sphere.faces[np.abs(z) < 0.7])
     assert len(vertices) == len(sphere.vertices) + 2
     assert trimesh.Trimesh(vertices, faces, process=False).is_watertight
+
+
+def test_long_cap_triangles_are_cut_without_changing_the_surface(tooth):
+    from signdne._winding import _split_long
+
+    vertices, faces = close_holes(np.asarray(tooth.vertices), np.asarray(tooth.faces))
+    tri = vertices[faces]
+    cut = _split_long(tri)
+    assert len(cut) > len(tri)  # the cap's fan triangles were cut into strips
+
+    def area_vectors(t):
+        return 0.5 * np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+
+    np.testing.assert_allclose(area_vectors(cut).sum(0), area_vectors(tri).sum(0), atol=1e-12)
+    np.testing.assert_allclose(
+        np.linalg.norm(area_vectors(cut), axis=1).sum(),
+        np.linalg.norm(area_vectors(tri), axis=1).sum(),
+        rtol=1e-12,
+    )
+    rng = np.random.default_rng(1)
+    lo, hi = vertices.min(0), vertices.max(0)
+    points = rng.uniform(lo - 0.1, hi + 0.1, size=(3000, 3))
+    fast = winding_number(vertices, faces, points)
+    exact = exact_winding_number(vertices, faces, points)
+    assert np.max(np.abs(fast - exact)) < 0.05
+    np.testing.assert_array_equal(np.abs(fast) > 0.5, np.abs(exact) > 0.5)

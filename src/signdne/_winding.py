@@ -13,8 +13,19 @@ winding numbers for soups and clouds", doi:10.1145/3197517.3201337):
 
 A centroid a hair's breadth from the surface therefore gets the exact solid
 angle of the triangles next to it.  Any point whose approximate winding number
-is not within ``AMBIGUITY`` of an integer is recomputed by the exact sum over
-all triangles, so the decision never rests on the approximation.
+is not within ``AMBIGUITY`` of an integer is recomputed with far-field ratios
+``REFINE_RATIOS`` (more of the sum exact each time) and, if still ambiguous,
+by the exact sum over all triangles, so the decision never rests on the
+approximation; the refinement keeps that last, O(faces) per point, step for the
+few points that lie on the surface itself.
+
+Long, thin triangles (the fans that cap a mesh's holes) would make every
+cluster that holds them wide, and every query near them slow.  Triangles much
+longer than the mesh's typical edge are therefore cut into strips parallel to
+their shortest edge before the hierarchy is built: the surface, and so the
+winding number, is unchanged (solid angle is additive), up to rounding.
+Queries are processed in spatial (Morton) order, which keeps the parts of the
+hierarchy they visit in cache.  Everything is O((points + faces) log faces).
 """
 
 from __future__ import annotations
@@ -28,6 +39,10 @@ FAR_FIELD_RATIO = 2.0
 LEAF_SIZE = 8
 #: Approximate winding numbers farther than this from an integer are recomputed exactly.
 AMBIGUITY = 0.2
+#: Far-field ratios of the second and third passes for ambiguous points.
+REFINE_RATIOS = (8.0, 64.0)
+#: Triangles longer than this many times the median longest edge are cut into strips.
+LONG_TRIANGLE = 8.0
 _FOUR_PI = 4.0 * np.pi
 
 
@@ -63,7 +78,25 @@ def _triangle_sum(tri, lo, hi, q):
 
 @njit(cache=True)
 def _build(tri, leaf_size):
+    """Binary hierarchy over the (spatially ordered) triangles, halving index ranges.
+
+    Per node: the area-weighted centre, the summed area vector (its dipole) and
+    the radius of the sphere about the centre that holds all its vertices.
+    """
     n_tri = tri.shape[0]
+    area_vec = np.empty((n_tri, 3))
+    area = np.empty(n_tri)
+    for t in range(n_tri):
+        ax = tri[t, 1, 0] - tri[t, 0, 0]
+        ay = tri[t, 1, 1] - tri[t, 0, 1]
+        az = tri[t, 1, 2] - tri[t, 0, 2]
+        bx = tri[t, 2, 0] - tri[t, 0, 0]
+        by = tri[t, 2, 1] - tri[t, 0, 1]
+        bz = tri[t, 2, 2] - tri[t, 0, 2]
+        area_vec[t, 0] = 0.5 * (ay * bz - az * by)
+        area_vec[t, 1] = 0.5 * (az * bx - ax * bz)
+        area_vec[t, 2] = 0.5 * (ax * by - ay * bx)
+        area[t] = np.sqrt(area_vec[t, 0] ** 2 + area_vec[t, 1] ** 2 + area_vec[t, 2] ** 2)
     # halving leaves at least (leaf_size + 1) // 2 triangles per leaf
     cap = 4 * (n_tri // max(1, (leaf_size + 1) // 2) + 1) + 1
     lo = np.empty(cap, np.int64)
@@ -80,23 +113,36 @@ def _build(tri, leaf_size):
         a = lo[node]
         b = hi[node]
         total_area = 0.0
+        cx = cy = cz = 0.0
+        dx = dy = dz = 0.0
         for t in range(a, b):
-            e1 = tri[t, 1] - tri[t, 0]
-            e2 = tri[t, 2] - tri[t, 0]
-            cr = 0.5 * np.cross(e1, e2)
-            area = np.sqrt(cr[0] ** 2 + cr[1] ** 2 + cr[2] ** 2)
-            dipole[node] += cr
-            centre[node] += area * (tri[t, 0] + tri[t, 1] + tri[t, 2]) / 3.0
-            total_area += area
+            w = area[t] / 3.0
+            cx += w * (tri[t, 0, 0] + tri[t, 1, 0] + tri[t, 2, 0])
+            cy += w * (tri[t, 0, 1] + tri[t, 1, 1] + tri[t, 2, 1])
+            cz += w * (tri[t, 0, 2] + tri[t, 1, 2] + tri[t, 2, 2])
+            dx += area_vec[t, 0]
+            dy += area_vec[t, 1]
+            dz += area_vec[t, 2]
+            total_area += area[t]
         if total_area > 0:
-            centre[node] /= total_area
+            cx /= total_area
+            cy /= total_area
+            cz /= total_area
         else:
-            centre[node] = tri[a, 0]
+            cx = tri[a, 0, 0]
+            cy = tri[a, 0, 1]
+            cz = tri[a, 0, 2]
+        centre[node, 0] = cx
+        centre[node, 1] = cy
+        centre[node, 2] = cz
+        dipole[node, 0] = dx
+        dipole[node, 1] = dy
+        dipole[node, 2] = dz
         r2 = 0.0
         for t in range(a, b):
             for k in range(3):
-                d = tri[t, k] - centre[node]
-                r2 = max(r2, d[0] ** 2 + d[1] ** 2 + d[2] ** 2)
+                d2 = (tri[t, k, 0] - cx) ** 2 + (tri[t, k, 1] - cy) ** 2 + (tri[t, k, 2] - cz) ** 2
+                r2 = max(r2, d2)
         radius[node] = np.sqrt(r2)
         if b - a > leaf_size:
             mid = (a + b) // 2
@@ -148,10 +194,77 @@ def _exact(tri, queries):
     return out
 
 
+@njit(cache=True)
+def _cut_strips(tri, pieces, out):
+    """Cut triangle t into ``pieces[t]`` strips parallel to its shortest edge.
+
+    The strips keep the triangle's orientation: 1 + 2 (pieces - 1) triangles.
+    """
+    k = 0
+    for t in range(tri.shape[0]):
+        count = pieces[t]
+        # apex: the vertex opposite the shortest edge
+        best = 0
+        shortest = np.inf
+        for a in range(3):
+            b = (a + 1) % 3
+            c = (a + 2) % 3
+            d = 0.0
+            for x in range(3):
+                d += (tri[t, b, x] - tri[t, c, x]) ** 2
+            if d < shortest:
+                shortest = d
+                best = a
+        apex = tri[t, best]
+        va = tri[t, (best + 1) % 3]
+        vb = tri[t, (best + 2) % 3]
+        for s in range(count):
+            s0 = s / count
+            s1 = (s + 1) / count
+            p0 = apex + s0 * (va - apex)
+            q0 = apex + s0 * (vb - apex)
+            p1 = apex + s1 * (va - apex)
+            q1 = apex + s1 * (vb - apex)
+            if s == 0:
+                out[k, 0] = apex
+                out[k, 1] = p1
+                out[k, 2] = q1
+                k += 1
+                continue
+            out[k, 0] = p0
+            out[k, 1] = p1
+            out[k, 2] = q1
+            out[k + 1, 0] = p0
+            out[k + 1, 1] = q1
+            out[k + 1, 2] = q0
+            k += 2
+    return out
+
+
+def _split_long(tri: np.ndarray) -> np.ndarray:
+    """Cut triangles much longer than the typical edge into strips (same surface)."""
+    edge = np.stack(
+        [np.linalg.norm(tri[:, (a + 1) % 3] - tri[:, a], axis=1) for a in range(3)], axis=1
+    )
+    longest = edge.max(axis=1)
+    target = LONG_TRIANGLE * float(np.median(longest))
+    if not target > 0:
+        return tri
+    pieces = np.ceil(longest / target).astype(np.int64)
+    long = pieces > 1
+    if not long.any():
+        return tri
+    pieces = pieces[long]
+    cut = _cut_strips(
+        np.ascontiguousarray(tri[long]), pieces, np.empty((int((2 * pieces - 1).sum()), 3, 3))
+    )
+    return np.concatenate([tri[~long], cut])
+
+
 def _ordered_triangles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     from ._kernel import spatial_order
 
-    tri = np.ascontiguousarray(vertices[faces], dtype=np.float64)
+    tri = _split_long(np.ascontiguousarray(vertices[faces], dtype=np.float64))
     return np.ascontiguousarray(tri[spatial_order(tri.mean(axis=1))])
 
 
@@ -180,13 +293,26 @@ def winding_number(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) 
         outside.  Values not within ``AMBIGUITY`` of an integer after the fast
         pass are the exact sum.
     """
+    from ._kernel import spatial_order
+
     points = np.ascontiguousarray(points, dtype=np.float64)
+    value = np.empty(len(points))
+    if len(points) == 0:
+        return value
     tri = _ordered_triangles(vertices, faces)
     tree = _build(tri, LEAF_SIZE)
-    value = _query(tri, *tree, points, FAR_FIELD_RATIO) / _FOUR_PI
-    unsure = np.abs(value - np.round(value)) > AMBIGUITY
-    if unsure.any():
-        value[unsure] = _exact(tri, points[unsure]) / _FOUR_PI
+    order = spatial_order(points)
+    value[order] = _query(tri, *tree, np.ascontiguousarray(points[order]), FAR_FIELD_RATIO)
+    value /= _FOUR_PI
+    for ratio in (*REFINE_RATIOS, None):
+        unsure = np.flatnonzero(np.abs(value - np.round(value)) > AMBIGUITY)
+        if len(unsure) == 0:
+            break
+        queries = np.ascontiguousarray(points[unsure])
+        if ratio is None:
+            value[unsure] = _exact(tri, queries) / _FOUR_PI
+        else:
+            value[unsure] = _query(tri, *tree, queries, ratio) / _FOUR_PI
     return value
 
 
