@@ -18,9 +18,10 @@ offered, so that the paper's method can be compared with the alternatives:
     The sign of trimesh's discrete mean curvature measure (Cohen-Steiner and
     Morvan 2003) of the ball of radius ``bandwidth`` about the vertex, on the
     unit-area mesh (the same normalisation as the kernel, so the radius and
-    the bandwidth are the same number on the same scale).  The faces are
-    oriented consistently and outward first (outward = positive volume of the
-    capped surface), because the measure's sign follows the orientation.
+    the bandwidth are the same number on the same scale; ``_measure_sign``
+    computes it and states the rule).  The faces are oriented consistently
+    and outward first (outward = positive volume of the capped surface),
+    because the measure's sign follows the orientation.
 ``"gaussian_curvature"``
     The sign of trimesh's discrete Gaussian curvature measure (the sum of the
     angle defects of the vertices in the same ball).  Orientation-free;
@@ -57,40 +58,6 @@ def outward_faces(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return faces if volume >= 0 else faces[:, ::-1].copy()
 
 
-def curvature_measure(
-    points: np.ndarray, faces: np.ndarray, radius: float, kind: str
-) -> np.ndarray:
-    """trimesh's discrete mean or Gaussian curvature measure of the ball about each vertex.
-
-    Parameters
-    ----------
-    points : (n, 3) float
-        Vertices (the unit-area coordinates in ``ariaDNE``).
-    faces : (m, 3) int
-        Triangles; oriented outward here before the measure is taken.
-    radius : float
-        Ball radius, in the units of `points`.
-    kind : {"mean", "gaussian"}
-
-    Returns
-    -------
-    (n,) float
-        The measure for the ball centred at each vertex.
-    """
-    import trimesh
-    from trimesh.curvature import (
-        discrete_gaussian_curvature_measure,
-        discrete_mean_curvature_measure,
-    )
-
-    mesh = trimesh.Trimesh(points, outward_faces(points, faces), process=False)
-    if kind == "mean":
-        return discrete_mean_curvature_measure(mesh, points, radius)
-    if kind == "gaussian":
-        return discrete_gaussian_curvature_measure(mesh, points, radius)
-    raise ValueError(f"kind must be 'mean' or 'gaussian'; got {kind!r}")
-
-
 def convex_vertices(
     sign_method: str,
     points: np.ndarray,
@@ -124,5 +91,8 @@ def convex_vertices(
     if sign_method == "winding":
         oriented = orient_consistently(np.asarray(faces, dtype=np.int64), len(points))
         return np.abs(winding_number(points, oriented, centroids)) > 0.5
+    from ._measure_sign import curvature_measure  # it imports outward_faces from here
+
+    # the unit-area mesh: the ball radius, bandwidth * sqrt(area), is the bandwidth itself
     kind = "mean" if sign_method == "mean_curvature" else "gaussian"
-    return curvature_measure(points, faces, bandwidth, kind) >= 0
+    return curvature_measure((points, faces), kind, bandwidth) >= 0
