@@ -150,6 +150,7 @@ def _ours_run(mesh):
 
     result = ariaDNE(mesh)
     out = {name: np.asarray(getattr(result, name)) for name in PER_VERTEX + SCALARS}
+    out["method"] = np.asarray(str(getattr(result, "method", "")))  # kernel sums: exact or fast
     return out
 
 
@@ -165,11 +166,12 @@ class _StageTimer:
         ("prepare", "prepare"),
         ("kernel", "euclidean_moments"),
         ("kernel", "geodesic_moments"),
+        ("kernel", "fast_euclidean_moments"),
         ("eigen", "unsigned_bending"),
         ("close holes", "close_holes"),
         ("inside test", "inside"),
     )
-    MODULES = ("signdne._ariadne", "signdne._sign", "signdne._kernel")
+    MODULES = ("signdne._ariadne", "signdne._sign", "signdne._kernel", "signdne._fastgauss")
 
     def __init__(self):
         self.seconds: dict[str, float] = {}
@@ -508,6 +510,9 @@ def report(results, args):
             timing_rows,
         )
     )
+    methods = {name: entry["method"] for name, entry in results.items() if entry.get("method")}
+    if methods:
+        print("our kernel sums: " + ", ".join(f"{k} {v}" for k, v in methods.items()))
     print()
     print(
         "Largest differences, ours vs published: totals relative; per-vertex absolute "
@@ -563,7 +568,7 @@ def report_stages(results):
     print()
     print(_format_table(["mesh", "load", *_STAGE_LABELS, "other", "total"], rows))
     missing = {m for entry in results.values() for m in entry.get("stages_missing", [])}
-    missing.discard("geodesic_moments")
+    missing -= {"geodesic_moments", "fast_euclidean_moments"}
     if missing:
         print(f"(stages not found in signdne, counted in 'other': {sorted(missing)})")
 
@@ -634,6 +639,7 @@ def main(argv: list[str] | None = None) -> int:
                 "ours": summarise(our_runs),
                 # the first run of each; variation between runs is reported separately
                 "diff": compare(pub_runs[0][0], our_runs[0][0]),
+                "method": str(our_runs[0][0].get("method", "")),
             }
             for who, label, runs in (
                 ("published", "published_signs", pub_runs),
