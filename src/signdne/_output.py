@@ -20,6 +20,7 @@ from collections.abc import Callable, Iterable, Sequence
 
 import numpy as np
 
+from ._colors import color_scale
 from ._inputs import OUTPUT_SUFFIX
 from ._result import SCALAR_FIELDS
 
@@ -187,31 +188,14 @@ def per_vertex_names(files: Sequence[str]) -> list[str]:
     return names
 
 
-def diverging_colors(values: np.ndarray, *, percentile: float = 98.0) -> np.ndarray:
-    """RGB colours (uint8, shape (n, 3)) for a signed field, white at zero.
-
-    Blue for negative, red for positive, on symmetric limits ``±L`` where ``L``
-    is the `percentile` of ``|values|`` (values beyond are clipped).
-    """
-    values = np.asarray(values, dtype=np.float64)
-    limit = float(np.percentile(np.abs(values), percentile)) if values.size else 0.0
-    t = np.clip(values / limit, -1.0, 1.0) if limit > 0 else np.zeros_like(values)
-    white = np.array([247.0, 247.0, 247.0])
-    red = np.array([180.0, 4.0, 38.0])
-    blue = np.array([59.0, 76.0, 192.0])
-    pos = np.clip(t, 0.0, None)[:, None]
-    neg = np.clip(-t, 0.0, None)[:, None]
-    rgb = white + pos * (red - white) + neg * (blue - white)
-    return np.round(rgb).astype(np.uint8)
-
-
 def write_per_vertex(directory: str | os.PathLike, name: str, result) -> tuple[str, str]:
     """Write one mesh's per-vertex values as ``<name>.signdne.ply`` and ``.csv``.
 
     The PLY (binary, float64 coordinates) holds the cleaned mesh the values
     refer to; its vertices carry ``local_curvature`` and ``local_dne`` as
-    properties and are coloured by the signed curvature (red convex, blue
-    concave, white flat; symmetric limits at the 98th percentile of ``|k|``).
+    properties and are coloured by the signed curvature on the package's
+    diverging scale (red convex, blue concave, grey zero; symmetric limits at
+    the 98th percentile of ``|k|``, as in the pictures).
     The CSV has columns ``vertex, x, y, z, local_curvature, local_dne``.
 
     Returns
@@ -239,7 +223,7 @@ def write_per_vertex(directory: str | os.PathLike, name: str, result) -> tuple[s
         ],
     )
     vertex["x"], vertex["y"], vertex["z"] = vertices.T
-    vertex["red"], vertex["green"], vertex["blue"] = diverging_colors(curvature).T
+    vertex["red"], vertex["green"], vertex["blue"] = color_scale(curvature).rgb(curvature).T
     vertex["local_curvature"] = curvature
     vertex["local_dne"] = local_dne
     face = np.empty(len(faces), dtype=[("count", "u1"), ("index", "<i4", (3,))])
