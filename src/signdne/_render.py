@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -237,6 +238,35 @@ def _plotter(
     return plotter
 
 
+@contextmanager
+def _quiet_vtk_warnings():
+    """Hide VTK's warnings on stderr (off-screen it warns that there is no X server)."""
+    from vtkmodules.vtkCommonCore import vtkLogger
+
+    previous = vtkLogger.GetCurrentVerbosityCutoff()
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
+    try:
+        yield
+    finally:
+        vtkLogger.SetStderrVerbosity(previous)
+
+
+def _screenshot(items, scale, title_text, legend, view, window_size, path) -> None:
+    plotter = _plotter(
+        items,
+        scale,
+        title_text=title_text,
+        legend=legend,
+        view=view,
+        window_size=window_size,
+        off_screen=True,
+    )
+    try:
+        plotter.screenshot(os.fspath(path))
+    finally:
+        plotter.close()
+
+
 def _draw(
     items: list[_Item],
     *,
@@ -278,19 +308,8 @@ def _draw(
             view=view if isinstance(view, str) else None,
         )
     if screenshot is not None:
-        plotter = _plotter(
-            items,
-            scale,
-            title_text=title_text,
-            legend=legend,
-            view=view,
-            window_size=window_size,
-            off_screen=True,
-        )
-        try:
-            plotter.screenshot(os.fspath(screenshot))
-        finally:
-            plotter.close()
+        with _quiet_vtk_warnings():
+            _screenshot(items, scale, title_text, legend, view, window_size, screenshot)
     if interactive:
         plotter = _plotter(
             items,
