@@ -10,22 +10,56 @@ mesh (a tooth crown cut at the cervix, a scan with holes) is closed first:
    one new vertex at the mean of its boundary vertices.  The cap triangles run
    each boundary edge backwards, so the closed surface is consistently oriented.
 
-Both steps are linear in the mesh size (a few milliseconds for 10k faces).
+Both steps are near-linear in the mesh size (sorting edges; the walk is
+compiled): a few milliseconds for 10k faces, about a second for 2M.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import breadth_first_order, connected_components
+from scipy.sparse.csgraph import connected_components
 
 
 def _directed_edges(faces: np.ndarray) -> np.ndarray:
-    return np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    faces = np.asarray(faces)
+    return np.stack([faces.T.ravel(), np.roll(faces, -1, axis=1).T.ravel()], axis=1)
 
 
 def _edge_keys(edges: np.ndarray, n: int) -> np.ndarray:
     return edges[:, 0].astype(np.int64) * n + edges[:, 1]
+
+
+@njit(cache=True)
+def _propagate_flips(start, neighbour, same, m):
+    """Breadth-first walk over face adjacency; a face flips if it disagrees with its parent.
+
+    ``neighbour[start[f]:start[f + 1]]`` are the faces sharing an edge with f,
+    ``same`` whether that edge runs the same way in both (one must flip).  Each
+    connected patch keeps the orientation of its lowest-numbered face.
+    """
+    flip = np.zeros(m, dtype=np.bool_)
+    visited = np.zeros(m, dtype=np.bool_)
+    queue = np.empty(m, dtype=np.int64)
+    for root in range(m):
+        if visited[root]:
+            continue
+        visited[root] = True
+        queue[0] = root
+        head = 0
+        tail = 1
+        while head < tail:
+            f = queue[head]
+            head += 1
+            for e in range(start[f], start[f + 1]):
+                g = neighbour[e]
+                if not visited[g]:
+                    visited[g] = True
+                    flip[g] = flip[f] ^ same[e]
+                    queue[tail] = g
+                    tail += 1
+    return flip
 
 
 def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
@@ -36,8 +70,10 @@ def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     """
     m = len(faces)
     directed = _directed_edges(faces)
-    if len(np.unique(_edge_keys(directed, n_vertices))) == len(directed):
+    directed_keys = np.sort(_edge_keys(directed, n_vertices))
+    if not np.any(directed_keys[1:] == directed_keys[:-1]):
         return faces  # no directed edge used twice: already consistent
+    del directed_keys
     face_of = np.tile(np.arange(m), 3)
     undirected = np.sort(directed, axis=1)
     key = _edge_keys(undirected, n_vertices)
@@ -50,19 +86,10 @@ def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     # same direction along the shared edge means one of the two faces is flipped
     same = directed[a, 0] == directed[b, 0]
     fa, fb = face_of[a], face_of[b]
-    graph = coo_matrix(
-        (np.r_[same, same].astype(np.int8) + 1, (np.r_[fa, fb], np.r_[fb, fa])), shape=(m, m)
-    ).tocsr()
-    flip = np.zeros(m, dtype=bool)
-    visited = np.zeros(m, dtype=bool)
-    for root in range(m):
-        if visited[root]:
-            continue
-        order_bfs, pred = breadth_first_order(graph, root, directed=False)
-        visited[order_bfs] = True
-        for f in order_bfs[1:]:
-            p = pred[f]
-            flip[f] = flip[p] ^ (graph[f, p] == 2)
+    source = np.r_[fa, fb]
+    by_face = np.argsort(source, kind="stable")
+    start = np.searchsorted(source[by_face], np.arange(m + 1))
+    flip = _propagate_flips(start, np.r_[fb, fa][by_face], np.r_[same, same][by_face], m)
     fixed = faces.copy()
     fixed[flip] = fixed[flip][:, ::-1]
     return fixed
@@ -71,11 +98,14 @@ def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
 def boundary_edges(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     """Directed edges (as they run in their face) that no other face shares, shape (k, 2)."""
     directed = _directed_edges(faces)
-    undirected = np.sort(directed, axis=1)
-    _, inverse, counts = np.unique(
-        _edge_keys(undirected, n_vertices), return_inverse=True, return_counts=True
-    )
-    return directed[counts[inverse] == 1]
+    key = _edge_keys(np.sort(directed, axis=1), n_vertices)
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    differs = sorted_key[1:] != sorted_key[:-1]
+    alone = np.r_[True, differs] & np.r_[differs, True]  # a key that occurs once
+    once = np.zeros(len(key), dtype=bool)
+    once[order[alone]] = True
+    return directed[once]
 
 
 def close_holes(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
