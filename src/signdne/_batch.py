@@ -217,9 +217,8 @@ def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[
     client = Client(scheduler, set_as_default=False) if own_client else scheduler
     futures = {}
     try:
-        for task in tasks:
-            future = client.submit(compute_task, task, settings, pure=False)
-            futures[future] = task
+        submitted = client.map(compute_task, list(tasks), [settings] * len(tasks), pure=False)
+        futures = dict(zip(submitted, tasks, strict=True))  # one message for the whole batch
         for future in as_completed(list(futures), loop=client.loop):
             try:
                 yield future.result()

@@ -195,6 +195,8 @@ class _Progress:
         self.tty = sys.stderr.isatty() and not quiet
         self.start = time.perf_counter()
         self.done = 0
+        if self.tty and total:
+            self._bar("")  # at once: the first mesh may take a while
 
     def _clear(self) -> None:
         if self.tty:
