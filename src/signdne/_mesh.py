@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
-from ._closure import orient_consistently
+from ._closure import boundary_edges, orient_consistently
 
 #: Faces whose height is below this (in the mesh's own units) are dropped.
 DEGENERATE_HEIGHT = 1e-8
@@ -161,6 +161,31 @@ def as_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
     return vertices, faces
 
 
+def _may_have_small_holes(faces: np.ndarray, n_vertices: int) -> bool:
+    """False when trimesh's ``fill_holes`` provably adds nothing (it is slow on big meshes).
+
+    ``fill_holes`` caps the 3- and 4-edge cycles of a cycle basis of the boundary
+    edges.  If every boundary component is one simple loop (every boundary
+    vertex on exactly two boundary edges) of at least 5 edges, the basis holds
+    only those loops and nothing is added.
+    """
+    edges = boundary_edges(faces, n_vertices)
+    if len(edges) == 0:
+        return False  # watertight
+    if len(edges) < 3:
+        return True  # trimesh's own special case: let it decide
+    degree = np.bincount(edges.ravel(), minlength=n_vertices)
+    if np.any(degree[degree > 0] != 2):
+        return True
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n_vertices,) * 2)
+    _, label = connected_components(graph, directed=False)
+    loop_size = np.bincount(label[edges[:, 0]])
+    return bool(np.any((loop_size > 0) & (loop_size < 5)))
+
+
 def clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
     """Clean a mesh as the published computation does, on a private copy.
 
@@ -174,7 +199,8 @@ def clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
         If nothing usable is left.
     """
     mesh = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
-    mesh.fill_holes()
+    if _may_have_small_holes(faces, len(vertices)):
+        mesh.fill_holes()
     mesh.update_faces(mesh.nondegenerate_faces(height=DEGENERATE_HEIGHT))
     mesh.update_faces(mesh.unique_faces())
     mesh.remove_infinite_values()
