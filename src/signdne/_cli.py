@@ -90,13 +90,16 @@ files found), 130 interrupted (rows already done are kept).
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``signDNE`` command."""
-    subcommands = f" Subcommands: {', '.join(sorted(SUBCOMMANDS))}." if SUBCOMMANDS else ""
+    description = (
+        "Compute ariaDNE and its sign-oriented (convex/concave) split for triangle meshes:\n"
+        "one row per mesh."
+    )
+    if SUBCOMMANDS:
+        names = ", ".join(sorted(SUBCOMMANDS))
+        description += f"\n\nsubcommands: {names} (signDNE NAME --help)"
     parser = argparse.ArgumentParser(
         prog=PROG,
-        description=(
-            "Compute ariaDNE and its sign-oriented (convex/concave) split for triangle "
-            "meshes: one row per mesh." + subcommands
-        ),
+        description=description,
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
