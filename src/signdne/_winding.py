@@ -182,42 +182,45 @@ def _build(tri, leaf_size):
 
 @njit(cache=True, parallel=True)
 def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, second_order):
-    out = np.empty(queries.shape[0])
-    for i in prange(queries.shape[0]):
-        q = queries[i]
-        stack = np.empty(256, np.int64)
-        stack[0] = 0
-        top = 1
-        total = 0.0
-        while top > 0:
-            top -= 1
-            node = stack[top]
-            dx = centre[node, 0] - q[0]
-            dy = centre[node, 1] - q[1]
-            dz = centre[node, 2] - q[2]
-            dist = np.sqrt(dx * dx + dy * dy + dz * dz)
-            if dist > ratio * radius[node]:
-                # far field to second order: the cluster's area vector D and
-                # first moment M about its centre, at r = centre - q:
-                # D.r/|r|^3 + tr(M)/|r|^3 - 3 r.M.r/|r|^5
-                inv3 = 1.0 / (dist * dist * dist)
-                term = dx * dipole[node, 0] + dy * dipole[node, 1] + dz * dipole[node, 2]
-                if second_order:
-                    m = moment[node]
-                    rmr = (
-                        dx * (m[0, 0] * dx + m[0, 1] * dy + m[0, 2] * dz)
-                        + dy * (m[1, 0] * dx + m[1, 1] * dy + m[1, 2] * dz)
-                        + dz * (m[2, 0] * dx + m[2, 1] * dy + m[2, 2] * dz)
-                    )
-                    term += m[0, 0] + m[1, 1] + m[2, 2] - 3.0 * rmr / (dist * dist)
-                total += term * inv3
-            elif left[node] < 0:
-                total += _triangle_sum(tri, lo[node], hi[node], q)
-            else:
-                stack[top] = left[node]
-                stack[top + 1] = left[node] + 1
-                top += 2
-        out[i] = total
+    n = queries.shape[0]
+    out = np.empty(n)
+    n_chunks = min(n, 256)
+    for chunk in prange(n_chunks):
+        stack = np.empty(256, np.int64)  # one traversal stack per chunk of queries
+        for i in range(chunk * n // n_chunks, (chunk + 1) * n // n_chunks):
+            q = queries[i]
+            stack[0] = 0
+            top = 1
+            total = 0.0
+            while top > 0:
+                top -= 1
+                node = stack[top]
+                dx = centre[node, 0] - q[0]
+                dy = centre[node, 1] - q[1]
+                dz = centre[node, 2] - q[2]
+                dist = np.sqrt(dx * dx + dy * dy + dz * dz)
+                if dist > ratio * radius[node]:
+                    # far field to second order: the cluster's area vector D and
+                    # first moment M about its centre, at r = centre - q:
+                    # D.r/|r|^3 + tr(M)/|r|^3 - 3 r.M.r/|r|^5
+                    inv3 = 1.0 / (dist * dist * dist)
+                    term = dx * dipole[node, 0] + dy * dipole[node, 1] + dz * dipole[node, 2]
+                    if second_order:
+                        m = moment[node]
+                        rmr = (
+                            dx * (m[0, 0] * dx + m[0, 1] * dy + m[0, 2] * dz)
+                            + dy * (m[1, 0] * dx + m[1, 1] * dy + m[1, 2] * dz)
+                            + dz * (m[2, 0] * dx + m[2, 1] * dy + m[2, 2] * dz)
+                        )
+                        term += m[0, 0] + m[1, 1] + m[2, 2] - 3.0 * rmr / (dist * dist)
+                    total += term * inv3
+                elif left[node] < 0:
+                    total += _triangle_sum(tri, lo[node], hi[node], q)
+                else:
+                    stack[top] = left[node]
+                    stack[top + 1] = left[node] + 1
+                    top += 2
+            out[i] = total
     return out
 
 
