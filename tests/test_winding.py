@@ -98,3 +98,19 @@ def test_long_cap_triangles_are_cut_without_changing_the_surface(tooth):
     exact = exact_winding_number(vertices, faces, points)
     assert np.max(np.abs(fast - exact)) < 0.05
     np.testing.assert_array_equal(np.abs(fast) > 0.5, np.abs(exact) > 0.5)
+
+
+def test_fractional_winding_numbers_of_an_open_surface(sphere):
+    """Points near an open hemisphere's rim have fractional winding numbers: refined, not
+    summed exactly one by one, yet within 1e-3 of the exact sum, and decided alike."""
+    keep = sphere.triangles_center[:, 2] > 0
+    faces = sphere.faces[keep]
+    rng = np.random.default_rng(2)
+    points = np.column_stack([rng.uniform(-1.2, 1.2, (2000, 2)), rng.uniform(-0.2, 0.3, 2000)])
+    fast = winding_number(sphere.vertices, faces, points)
+    exact = exact_winding_number(sphere.vertices, faces, points)
+    fractional = np.abs(exact - np.round(exact)) > 0.25
+    assert fractional.mean() > 0.1  # many points were refined
+    assert np.max(np.abs(fast - exact)[fractional]) < 1e-3
+    assert np.max(np.abs(fast - exact)) < 0.05  # the first pass's accuracy elsewhere
+    np.testing.assert_array_equal(np.abs(fast) > 0.5, np.abs(exact) > 0.5)
