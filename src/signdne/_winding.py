@@ -284,8 +284,12 @@ def _cut_strips(tri, pieces, out):
     return out
 
 
-def _split_long(tri: np.ndarray) -> np.ndarray:
-    """Cut triangles much longer than the typical edge into strips (same surface)."""
+def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
+    """Cut triangles much longer than the typical edge into strips (same surface).
+
+    With ``overwrite``, ``tri`` itself is reused (each long triangle's first
+    strip takes its place), which saves copying a large array.
+    """
     edge = np.stack(
         [np.linalg.norm(tri[:, (a + 1) % 3] - tri[:, a], axis=1) for a in range(3)], axis=1
     )
@@ -294,20 +298,24 @@ def _split_long(tri: np.ndarray) -> np.ndarray:
     if not target > 0:
         return tri
     pieces = np.ceil(longest / target).astype(np.int64)
-    long = pieces > 1
-    if not long.any():
+    long = np.flatnonzero(pieces > 1)
+    if len(long) == 0:
         return tri
     pieces = pieces[long]
-    cut = _cut_strips(
-        np.ascontiguousarray(tri[long]), pieces, np.empty((int((2 * pieces - 1).sum()), 3, 3))
-    )
-    return np.concatenate([tri[~long], cut])
+    strips = 2 * pieces - 1
+    cut = _cut_strips(np.ascontiguousarray(tri[long]), pieces, np.empty((int(strips.sum()), 3, 3)))
+    first = np.concatenate([[0], np.cumsum(strips)[:-1]])
+    if not overwrite:
+        tri = tri.copy()
+    tri[long] = cut[first]
+    return np.concatenate([tri, np.delete(cut, first, axis=0)])
 
 
 def _ordered_triangles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     from ._kernel import spatial_order
 
-    tri = _split_long(np.ascontiguousarray(vertices[faces], dtype=np.float64))
+    tri = np.ascontiguousarray(vertices[faces], dtype=np.float64)  # a fresh array: ours
+    tri = _split_long(tri, overwrite=True)
     return np.ascontiguousarray(tri[spatial_order(tri.mean(axis=1))])
 
 
