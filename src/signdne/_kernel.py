@@ -118,15 +118,25 @@ def exp_table(largest_exponent: float) -> np.ndarray:
     return np.exp(-np.arange(size) / EXP_TABLE_STEPS)
 
 
-@njit(cache=True, parallel=True, fastmath=True)
-def _grid_sums(xs, ys, zs, cell_sorted, cell_start, dims, inv_h2, cutoff, radius2, table):
-    """Kernel sums for every vertex over the 27 cells around its own.
+#: Grid cells per kernel radius: finer cells let each vertex visit only the cells
+#: that can reach its ball (a column of cells per (x, y) cell, trimmed in z).
+CELLS_PER_RADIUS = 3
 
-    Arrays are sorted by cell.  The weight ``exp(-d2 / h2)`` is computed inline
-    as ``table[m] * P(r)`` (see ``EXP_TABLE_STEPS``; ``P`` is the degree-10
-    Taylor polynomial, truncation below 1e-21, so the weight is within a couple
-    of ulps of libm's ``exp``), which LLVM vectorises, unlike a call to ``exp``.
-    Pairs beyond the radius or with weight ``<= cutoff`` get weight zero.
+
+@njit(cache=True, parallel=True, fastmath=True)
+def _grid_sums(
+    xs, ys, zs, cell_sorted, cell_start, dims, origin, cell, inv_h2, cutoff, radius2, table
+):
+    """Kernel sums for every vertex over the grid cells that can reach its ball.
+
+    Arrays are sorted by cell (x-major, z fastest).  For each (x, y) column of
+    cells near the vertex, only the run of cells along z that meets the ball of
+    radius ``sqrt(radius2)`` is visited; it is contiguous in the sorted arrays.
+    The weight ``exp(-d2 / h2)`` is computed inline as ``table[m] * P(r)`` (see
+    ``EXP_TABLE_STEPS``; ``P`` is the degree-10 Taylor polynomial in Estrin's
+    form, truncation below 1e-21, so the weight is within a couple of ulps of
+    libm's ``exp``), which LLVM vectorises, unlike a call to ``exp``.  Pairs
+    beyond the radius or with weight ``<= cutoff`` get weight zero.
     """
     n = xs.shape[0]
     out = np.zeros((n, 10))
@@ -135,23 +145,35 @@ def _grid_sums(xs, ys, zs, cell_sorted, cell_start, dims, inv_h2, cutoff, radius
     t_max = (table.shape[0] - 2) * 1.0
     scale = inv_h2 * EXP_TABLE_STEPS
     step = 1.0 / EXP_TABLE_STEPS
+    reach = np.sqrt(radius2)
     for row in prange(n):
         i = np.int64(row)
-        c = cell_sorted[i]
-        cx = c // (ny * nz)
-        cy = (c // nz) % ny
-        cz = c % nz
         xi = xs[i]
         yi = ys[i]
         zi = zs[i]
+        # the vertex's position in cell units
+        ux = (xi - origin[0]) / cell
+        uy = (yi - origin[1]) / cell
+        uz = (zi - origin[2]) / cell
         s0 = s1x = s1y = s1z = 0.0
         sxx = sxy = sxz = syy = syz = szz = 0.0
         kept = 0.0
-        z0 = max(cz - 1, 0)
-        z1 = min(cz + 2, nz)
-        for ax in range(max(cx - 1, 0), min(cx + 2, nx)):
-            for ay in range(max(cy - 1, 0), min(cy + 2, ny)):
-                # the three cells along z are contiguous in the sorted arrays
+        for ax in range(
+            max(np.int64(ux - reach / cell), 0), min(np.int64(ux + reach / cell) + 1, nx)
+        ):
+            gx = max(ax * cell - (xi - origin[0]), (xi - origin[0]) - (ax + 1) * cell, 0.0)
+            for ay in range(
+                max(np.int64(uy - reach / cell), 0), min(np.int64(uy + reach / cell) + 1, ny)
+            ):
+                gy = max(ay * cell - (yi - origin[1]), (yi - origin[1]) - (ay + 1) * cell, 0.0)
+                left = radius2 - gx * gx - gy * gy
+                if left < 0.0:
+                    continue  # this column of cells cannot reach the ball
+                dzmax = np.sqrt(left) / cell
+                z0 = max(np.int64(uz - dzmax), 0)
+                z1 = min(np.int64(uz + dzmax) + 1, nz)
+                if z0 >= z1:
+                    continue
                 column = (ax * ny + ay) * nz
                 for j in range(cell_start[column + z0], cell_start[column + z1]):
                     dx = xs[j] - xi
@@ -159,38 +181,14 @@ def _grid_sums(xs, ys, zs, cell_sorted, cell_start, dims, inv_h2, cutoff, radius
                     dz = zs[j] - zi
                     d2 = dx * dx + dy * dy + dz * dz
                     t = min(d2 * scale, t_max)
-                    m = np.int32(t)
-                    r = (m - t) * step
-                    p = 1.0 + r * (
-                        1.0
-                        + r
-                        * (
-                            1 / 2
-                            + r
-                            * (
-                                1 / 6
-                                + r
-                                * (
-                                    1 / 24
-                                    + r
-                                    * (
-                                        1 / 120
-                                        + r
-                                        * (
-                                            1 / 720
-                                            + r
-                                            * (
-                                                1 / 5040
-                                                + r
-                                                * (1 / 40320 + r * (1 / 362880 + r * (1 / 3628800)))
-                                            )
-                                        )
-                                    )
-                                )
-                            )
-                        )
-                    )
-                    w = table[m] * p
+                    mf = np.floor(t)
+                    r = (mf - t) * step
+                    r2 = r * r
+                    r4 = r2 * r2
+                    q0 = (1.0 + r) + (1 / 2 + r * (1 / 6)) * r2
+                    q1 = (1 / 24 + r * (1 / 120)) + (1 / 720 + r * (1 / 5040)) * r2
+                    q2 = (1 / 40320 + r * (1 / 362880)) + (1 / 3628800) * r2
+                    w = table[np.int32(mf)] * (q0 + (q1 + q2 * r4) * r4)
                     keep = (d2 <= radius2) and (w > cutoff)
                     w = w if keep else 0.0
                     kept += 1.0 if keep else 0.0
@@ -224,9 +222,9 @@ def _grid_sums(xs, ys, zs, cell_sorted, cell_start, dims, inv_h2, cutoff, radius
 def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> KernelMoments:
     """Kernel moments with straight-line distances, in linear memory.
 
-    Vertices are binned in a uniform grid whose cells are at least the kernel
-    radius wide, so each vertex's neighbours lie in the 27 cells around it;
-    sums are accumulated relative to the vertex itself (no cancellation).
+    Vertices are binned in a uniform grid of ``CELLS_PER_RADIUS`` cells per
+    kernel radius; each vertex visits only the cells that can reach its ball.
+    Sums are accumulated relative to the vertex itself (no cancellation).
 
     Parameters
     ----------
@@ -242,7 +240,7 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
     radius = kernel_radius(bandwidth, cutoff)
     lo = points.min(axis=0)
     span = points.max(axis=0) - lo
-    cell = radius
+    cell = radius / CELLS_PER_RADIUS
     while np.prod(np.floor(span / cell) + 1) > MAX_GRID_CELLS:
         cell *= 2.0
     dims = (np.floor(span / cell) + 1).astype(np.int64)
@@ -259,6 +257,8 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
             cell_of[order],
             cell_start.astype(np.int64),
             dims,
+            lo,
+            float(cell),
             1.0 / bandwidth**2,
             float(cutoff),
             radius**2,
