@@ -46,7 +46,7 @@ FAR_FIELD_RATIO = 2.0
 #: The same for ``inside``, which needs only the nearest integer, not the value.
 INSIDE_RATIO = 1.5
 #: Triangles per leaf of the hierarchy.
-LEAF_SIZE = 8
+LEAF_SIZE = 4
 #: Approximate winding numbers farther than this from an integer are recomputed exactly.
 AMBIGUITY = 0.2
 #: Far-field ratios of the second and third passes for ambiguous points.
