@@ -422,3 +422,44 @@ def test_display_unavailable_exits_1_and_keeps_the_rows(tmp_path, monkeypatch, c
     assert main([str(mesh), "-v", "-o", str(out), "-q"]) == 1
     assert "no display" in capsys.readouterr().err
     assert read_csv(out)[1][0]["status"] == "ok"
+
+
+def test_method_option_is_recorded_and_fast_agrees_with_exact(tmp_path):
+    pytest.importorskip("finufft", reason="the fast method needs the optional finufft")
+    mesh = small_tooth(tmp_path / "crown.ply", rings=20)
+    rows = {}
+    for method in ("exact", "fast", "auto"):
+        out = tmp_path / f"{method}.csv"
+        assert main([str(mesh), "--method", method, "-o", str(out), "-q"]) == 0
+        fieldnames, (row,) = read_csv(out)
+        assert fieldnames == list(COLUMNS)
+        rows[method] = row
+    assert rows["exact"]["method"] == "exact" and rows["fast"]["method"] == "fast"
+    assert rows["auto"]["method"] == "exact"  # a small mesh: auto keeps the exact sums
+    assert float(rows["fast"]["dne"]) == pytest.approx(float(rows["exact"]["dne"]), rel=1e-7)
+
+
+def test_bad_method_is_a_usage_error(tmp_path, capsys):
+    mesh = small_tooth(tmp_path / "crown.ply")
+    assert main([str(mesh), "--method", "quick"]) == 2
+    assert "--method" in capsys.readouterr().err
+
+
+def test_resume_with_auto_reuses_rows_of_either_method(tmp_path, capsys):
+    mesh = small_tooth(tmp_path / "crown.ply")
+    out = tmp_path / "dne.csv"
+    assert main([str(mesh), "--method", "exact", "-o", str(out), "-q"]) == 0
+    capsys.readouterr()
+    assert main([str(mesh), "--resume", "-o", str(out)]) == 0
+    assert "1 of 1 files already done" in capsys.readouterr().err
+    assert main([str(mesh), "--resume", "--method", "fast", "-o", str(out), "-q"]) == 0
+    assert read_csv(out)[1][0]["method"] == "fast"  # an explicit method must match
+
+
+def test_phases_of_a_slow_mesh_are_reported(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(_cli, "SLOW_MESH_SECONDS", 0.0)
+    mesh = small_tooth(tmp_path / "crown.ply")
+    assert main([str(mesh)]) == 0
+    err = capsys.readouterr().err
+    for phase in ("prepare", "kernel", "bending", "sign", "totals"):
+        assert f"crown.ply: {phase} (" in err

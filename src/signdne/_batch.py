@@ -21,10 +21,12 @@ import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, fields, replace
+from functools import partial
 
 import numpy as np
 
 from ._ariadne import _check_distance_type, _check_number, ariaDNE
+from ._fastgauss import check_method
 from ._inputs import find_mesh_files
 from ._output import COLUMNS, per_vertex_names, read_table, write_per_vertex
 from ._sign import check_sign_method
@@ -47,6 +49,7 @@ class Settings:
     cutoff: float = 0.0
     distance_type: str = "euclidean"
     sign_method: str = "centroid"
+    method: str = "auto"
     threads: int | None = None  # numba threads per mesh; None: numba's default
 
     def options(self) -> dict:
@@ -111,7 +114,11 @@ def error_record(file: str, reason: str, seconds: float | None = None) -> dict:
     return record
 
 
-def compute_task(task: Task, settings: Settings) -> Outcome:
+#: ``on_phase(file, phase)`` is called as each phase of one mesh starts (see ``ariaDNE``).
+PhaseCallback = Callable[[str, str], None]
+
+
+def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None = None) -> Outcome:
     """Compute one file; never raises for a bad file (the record says what went wrong)."""
     import numba
 
@@ -124,7 +131,8 @@ def compute_task(task: Task, settings: Settings) -> Outcome:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                result = ariaDNE(task.path, **settings.options())
+                phases = None if on_phase is None else partial(on_phase, task.file)
+                result = ariaDNE(task.path, progress=phases, **settings.options())
                 if task.per_vertex_dir is not None:
                     write_per_vertex(task.per_vertex_dir, task.per_vertex_name, result)
             except Exception as exc:  # one bad file never stops the batch
@@ -163,10 +171,12 @@ def _interrupts_ignored():
         signal.signal(signal.SIGINT, previous)
 
 
-def _run_local(tasks: Sequence[Task], settings: Settings, jobs: int) -> Iterator[Outcome]:
+def _run_local(
+    tasks: Sequence[Task], settings: Settings, jobs: int, on_phase: PhaseCallback | None = None
+) -> Iterator[Outcome]:
     if jobs <= 1 or len(tasks) <= 1:
         for task in tasks:
-            yield compute_task(task, settings)
+            yield compute_task(task, settings, on_phase)
         return
 
     import multiprocessing
@@ -232,9 +242,15 @@ def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[
 
 
 def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
-    """Files (as absolute paths) with an ``ok`` row computed with these settings."""
+    """Files (as absolute paths) with an ``ok`` row computed with these settings.
+
+    With ``method="auto"`` a row computed by either method counts (auto may
+    pick either); otherwise the recorded method must match.
+    """
     done = set()
     wanted = settings.options()
+    if wanted["method"] == "auto":
+        del wanted["method"]
     for record in previous:
         same = record.get("status") == "ok" and all(
             record.get(name) == value for name, value in wanted.items()
@@ -276,15 +292,22 @@ def plan_batch(
 
 
 def run_tasks(
-    tasks: Sequence[Task], settings: Settings, *, jobs: int = 1, scheduler=None
+    tasks: Sequence[Task],
+    settings: Settings,
+    *,
+    jobs: int = 1,
+    scheduler=None,
+    on_phase: PhaseCallback | None = None,
 ) -> Iterator[Outcome]:
     """Compute `tasks`, yielding each outcome as it completes (in any order).
 
+    ``on_phase`` reports the phases within each mesh; it is only called when
+    the meshes run one at a time in this process (``jobs=1``, no scheduler).
     Closing the iterator early (or Ctrl-C while iterating) stops the workers.
     """
     if scheduler is not None:
         return _run_dask(tasks, settings, scheduler)
-    return _run_local(tasks, settings, jobs)
+    return _run_local(tasks, settings, jobs, on_phase)
 
 
 def make_settings(
@@ -293,6 +316,7 @@ def make_settings(
     cutoff: float = 0.0,
     distance_type: str = "euclidean",
     sign_method: str = "centroid",
+    method: str = "auto",
     threads: int | None = None,
 ) -> Settings:
     """Validated batch settings (the same checks as ``ariaDNE``, made once up front).
@@ -315,6 +339,7 @@ def make_settings(
         cutoff=cutoff,
         distance_type=_check_distance_type(distance_type),
         sign_method=check_sign_method(sign_method),
+        method=check_method(method),
         threads=threads,
     )
 
@@ -332,6 +357,7 @@ def compute_batch(
     cutoff: float = 0.0,
     distance_type: str = "euclidean",
     sign_method: str = "centroid",
+    method: str = "auto",
     jobs: int = 1,
     threads: int | None = None,
     scheduler=None,
@@ -347,7 +373,7 @@ def compute_batch(
         Mesh files, directories (searched recursively for the formats trimesh
         reads; hidden entries skipped) and shell-style glob patterns.  A file
         reached twice is computed once.
-    bandwidth, cutoff, distance_type, sign_method
+    bandwidth, cutoff, distance_type, sign_method, method
         As for :func:`signdne.ariaDNE`.
     jobs : int, default 1
         Worker processes; 0 uses every core.  Results do not depend on it.
@@ -361,7 +387,8 @@ def compute_batch(
         same absolute paths (a shared file system).
     resume_from : path-like or iterable of dict, optional
         A previous output table (or its records): files with an ``ok`` row
-        computed with the same bandwidth, cutoff and distance type are not
+        computed with the same settings (bandwidth, cutoff, distance type,
+        sign method, and method unless it is ``"auto"``) are not
         computed again, and the previous rows are kept in the result.
     per_vertex_dir : path-like, optional
         Existing directory for each mesh's ``<name>.signdne.ply`` and
@@ -407,6 +434,7 @@ def compute_batch(
         cutoff=cutoff,
         distance_type=distance_type,
         sign_method=sign_method,
+        method=method,
         threads=threads,
     )
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):

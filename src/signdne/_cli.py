@@ -28,6 +28,7 @@ from ._batch import (
     resumable_files,
     run_tasks,
 )
+from ._fastgauss import METHODS
 from ._inputs import find_mesh_files
 from ._output import output_format, read_table, write_table
 from ._sign import SIGN_METHODS
@@ -50,6 +51,9 @@ SCHEDULER_ENV = "SIGNDNE_SCHEDULER"
 SUBCOMMANDS: dict[str, str | Callable[[list[str]], int]] = {}
 SUBCOMMANDS["robustness"] = "signdne._study_cli:robustness_main"
 SUBCOMMANDS["sweep"] = "signdne._study_cli:sweep_main"
+
+#: In plain-line progress, phases within a mesh are reported once it has taken this long.
+SLOW_MESH_SECONDS = 2.0
 
 #: Columns of the table printed on stdout when no --output is given.
 TABLE_COLUMNS = (
@@ -80,8 +84,8 @@ A file named like a subcommand is given as ./NAME.
 
 columns (also in the API and the files): file, dne, positive_dne,
 negative_dne, surface_area, positive_surface_area, negative_surface_area,
-vertices, faces, bandwidth, cutoff, distance_type, sign_method, seconds,
-status, error
+vertices, faces, bandwidth, cutoff, distance_type, sign_method, method,
+seconds, status, error
 
 exit codes: 0 all files ok, 1 some file failed, 2 usage error (also: no mesh
 files found), 130 interrupted (rows already done are kept).
@@ -126,6 +130,14 @@ def build_parser() -> argparse.ArgumentParser:
         choices=SIGN_METHODS,
         default="centroid",
         help="how the sign is decided (default centroid, the paper's method)",
+    )
+    compute.add_argument(
+        "--method",
+        type=str.lower,
+        choices=METHODS,
+        default="auto",
+        help="kernel sums: exact, fast (FFT-based, for large meshes) or auto (default: "
+        "fast from 20,000 vertices)",
     )
     run = parser.add_argument_group("running")
     run.add_argument(
@@ -198,6 +210,7 @@ class _Progress:
         self.tty = sys.stderr.isatty() and not quiet
         self.start = time.perf_counter()
         self.done = 0
+        self.mesh_start = self.start
         if self.tty and total:
             self._bar("")  # at once: the first mesh may take a while
 
@@ -220,6 +233,17 @@ class _Progress:
             self._bar(f"{os.path.basename(record['file'])}{timing}")
         elif not self.quiet:
             _say(f"[{self.done}/{self.total}] {record['file']}: ok{timing}")
+
+    def phase(self, file: str, name: str) -> None:
+        """A phase of one mesh starts: shown on the bar, or as a line once a mesh is slow."""
+        now = time.perf_counter()
+        if name == "prepare":
+            self.mesh_start = now
+        elapsed = now - self.mesh_start
+        if self.tty:
+            self._bar(f"{os.path.basename(file)}: {name} ({elapsed:.1f} s)")
+        elif not self.quiet and elapsed >= SLOW_MESH_SECONDS:
+            _say(f"{file}: {name} ({elapsed:.1f} s)")
 
     def _bar(self, last: str) -> None:
         width = shutil.get_terminal_size((80, 20)).columns
@@ -371,6 +395,7 @@ def main(argv: list[str] | None = None) -> int:
             cutoff=args.cutoff,
             distance_type=args.distance_type,
             sign_method=args.sign_method,
+            method=args.method,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
@@ -429,7 +454,7 @@ def main(argv: list[str] | None = None) -> int:
     progress = _Progress(len(tasks), quiet=args.quiet)
     outcomes: dict[int, Outcome] = {}
     interrupted = False
-    running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler)
+    running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
     try:
         for outcome in running:
             outcomes[outcome.index] = outcome
