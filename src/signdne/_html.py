@@ -20,22 +20,12 @@ import os
 import numpy as np
 
 from ._colors import ColorScale, diverging_rgb
-
-#: Preset views (direction to the camera, view-up), as in ``_render.VIEWS``.
-_VIEWS = {
-    "iso": ((1.0, -1.0, 1.0), (0.0, 0.0, 1.0)),
-    "top": ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
-    "bottom": ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
-    "front": ((0.0, -1.0, 0.0), (0.0, 0.0, 1.0)),
-    "back": ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0)),
-    "left": ((-1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
-    "right": ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
-}
+from ._render import VIEWS
 
 
 def view_rotation(view: str | None) -> np.ndarray:
     """Rows: the camera's right, up and towards-viewer axes in mesh coordinates."""
-    direction, up = (np.asarray(v, dtype=np.float64) for v in _VIEWS[view or "iso"])
+    direction, up = (np.asarray(v, dtype=np.float64) for v in VIEWS[view or "iso"])
     z = direction / np.linalg.norm(direction)
     y = up - np.dot(up, z) * z
     y /= np.linalg.norm(y)
