@@ -104,8 +104,10 @@ def ariaDNE(  # noqa: N802 -- the paper's name
         Straight-line distance, or shortest path along mesh edges.  The
         paper's capitalised spellings are accepted.
     precomputed_dist : (n, n) array_like, optional
-        A symmetric matrix of distances between the cleaned mesh's vertices;
-        when given, ``distance_type`` is ignored.
+        A symmetric matrix of distances between the cleaned mesh's vertices,
+        used as given: on the unit-area scale of the bandwidth (the mesh
+        translated to its mean and scaled by ``1 / sqrt(area)``).  When given,
+        ``distance_type`` is ignored.
     sign_method : {"centroid", "winding", "mean_curvature", "gaussian_curvature"}
         How the sign is decided (default ``"centroid"``, the paper's method):
         ``"centroid"``: + where the neighbourhood's weighted centroid lies
