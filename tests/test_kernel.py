@@ -25,7 +25,7 @@ def brute_force(points, bandwidth, cutoff):
 @pytest.mark.parametrize(
     ("bandwidth", "cutoff"), [(0.08, 0.0), (0.03, 0.0), (0.2, 0.0), (0.08, 0.3)]
 )
-def test_grid_sums_equal_brute_force(bandwidth, cutoff):
+def test_kernel_sums_equal_brute_force(bandwidth, cutoff):
     rng = np.random.default_rng(7)
     points = rng.normal(size=(700, 3)) * [0.5, 0.3, 0.1]
     moments = euclidean_moments(points, bandwidth, cutoff)

@@ -11,8 +11,8 @@ For every vertex i and weights ``w_ij = exp(-d_ij**2 / h**2)`` (kept where
 from which the weighted covariance ``C_i = second / S0`` and the weighted
 centroid ``g_i = x_i + first / S0`` follow.  No n x n matrix is formed: rows are
 processed in spatially compact blocks, each against the vertices within the
-kernel's effective radius.  Euclidean: a compiled, vectorised loop over a
-uniform grid of cells as wide as the radius, accumulating relative to each
+kernel's effective radius.  Euclidean: a compiled, vectorised loop over long
+runs of Morton-ordered points within reach, accumulating relative to each
 vertex (no cancellation).  Geodesic and precomputed: blocks of rows (Dijkstra bounded by
 the radius on the sparse edge graph), with moments accumulated relative to the
 block's centre so that cancellation is limited to the block's extent.
@@ -103,10 +103,6 @@ def _empty(n):
     return [np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros(n, dtype=np.int64)]
 
 
-#: Upper bound on the number of grid cells; coarser cells beyond it.
-MAX_GRID_CELLS = 2_000_000
-
-
 #: The inline exponential splits ``exp(-t)`` as ``exp(-m / STEPS) * exp(r)`` with
 #: integer ``m`` and ``-1 / STEPS < r <= 0``: a table lookup times a short polynomial.
 EXP_TABLE_STEPS = 16
@@ -118,20 +114,53 @@ def exp_table(largest_exponent: float) -> np.ndarray:
     return np.exp(-np.arange(size) / EXP_TABLE_STEPS)
 
 
-#: Grid cells per kernel radius: finer cells let each vertex visit only the cells
-#: that can reach its ball (a column of cells per (x, y) cell, trimmed in z).
-CELLS_PER_RADIUS = 3
+#: Vertices per block: rows and candidate runs are built from Morton-ordered blocks.
+BLOCK_POINTS = 64
+
+
+@njit(cache=True)
+def _candidate_runs(lo, hi, block_start, radius2):
+    """For each block, the runs of points (Morton order) in blocks within reach.
+
+    Blocks whose bounding boxes are within the radius of each other are
+    candidates; consecutive candidate blocks are merged into one run, so that
+    the kernel loops over a few long ranges of points.  Returns CSR arrays:
+    runs of block ``a`` are ``run_start[run_ptr[a]:run_ptr[a + 1]]`` to the
+    matching ``run_end``.
+    """
+    n_blocks = lo.shape[0]
+    run_ptr = np.zeros(n_blocks + 1, np.int64)
+    starts = []
+    ends = []
+    for a in range(n_blocks):
+        open_run = False
+        for b in range(n_blocks):
+            gap2 = 0.0
+            for k in range(3):
+                g = max(lo[b, k] - hi[a, k], lo[a, k] - hi[b, k], 0.0)
+                gap2 += g * g
+            if gap2 <= radius2:
+                if open_run:
+                    ends[-1] = block_start[b + 1]
+                else:
+                    starts.append(block_start[b])
+                    ends.append(block_start[b + 1])
+                    open_run = True
+            else:
+                open_run = False
+        run_ptr[a + 1] = len(starts)
+    run_start = np.empty(len(starts), np.int64)
+    run_end = np.empty(len(ends), np.int64)
+    for r in range(len(starts)):
+        run_start[r] = starts[r]
+        run_end[r] = ends[r]
+    return run_ptr, run_start, run_end
 
 
 @njit(cache=True, parallel=True, fastmath=True)
-def _grid_sums(
-    xs, ys, zs, cell_sorted, cell_start, dims, origin, cell, inv_h2, cutoff, radius2, table
-):
-    """Kernel sums for every vertex over the grid cells that can reach its ball.
+def _run_sums(xs, ys, zs, block_of, run_ptr, run_start, run_end, inv_h2, cutoff, radius2, table):
+    """Kernel sums for every vertex over the candidate runs of its block.
 
-    Arrays are sorted by cell (x-major, z fastest).  For each (x, y) column of
-    cells near the vertex, only the run of cells along z that meets the ball of
-    radius ``sqrt(radius2)`` is visited; it is contiguous in the sorted arrays.
     The weight ``exp(-d2 / h2)`` is computed inline as ``table[m] * P(r)`` (see
     ``EXP_TABLE_STEPS``; ``P`` is the degree-10 Taylor polynomial in Estrin's
     form, truncation below 1e-21, so the weight is within a couple of ulps of
@@ -141,70 +170,70 @@ def _grid_sums(
     n = xs.shape[0]
     out = np.zeros((n, 10))
     count = np.zeros(n, np.int64)
-    nx, ny, nz = dims[0], dims[1], dims[2]
     t_max = (table.shape[0] - 2) * 1.0
     scale = inv_h2 * EXP_TABLE_STEPS
     step = 1.0 / EXP_TABLE_STEPS
-    reach = np.sqrt(radius2)
     for row in prange(n):
         i = np.int64(row)
+        a = block_of[i]
         xi = xs[i]
         yi = ys[i]
         zi = zs[i]
-        # the vertex's position in cell units
-        ux = (xi - origin[0]) / cell
-        uy = (yi - origin[1]) / cell
-        uz = (zi - origin[2]) / cell
         s0 = s1x = s1y = s1z = 0.0
         sxx = sxy = sxz = syy = syz = szz = 0.0
         kept = 0.0
-        for ax in range(
-            max(np.int64(ux - reach / cell), 0), min(np.int64(ux + reach / cell) + 1, nx)
-        ):
-            gx = max(ax * cell - (xi - origin[0]), (xi - origin[0]) - (ax + 1) * cell, 0.0)
-            for ay in range(
-                max(np.int64(uy - reach / cell), 0), min(np.int64(uy + reach / cell) + 1, ny)
-            ):
-                gy = max(ay * cell - (yi - origin[1]), (yi - origin[1]) - (ay + 1) * cell, 0.0)
-                left = radius2 - gx * gx - gy * gy
-                if left < 0.0:
-                    continue  # this column of cells cannot reach the ball
-                dzmax = np.sqrt(left) / cell
-                z0 = max(np.int64(uz - dzmax), 0)
-                z1 = min(np.int64(uz + dzmax) + 1, nz)
-                if z0 >= z1:
-                    continue
-                column = (ax * ny + ay) * nz
-                for j in range(cell_start[column + z0], cell_start[column + z1]):
-                    dx = xs[j] - xi
-                    dy = ys[j] - yi
-                    dz = zs[j] - zi
-                    d2 = dx * dx + dy * dy + dz * dz
-                    t = min(d2 * scale, t_max)
-                    mf = np.floor(t)
-                    r = (mf - t) * step
-                    r2 = r * r
-                    r4 = r2 * r2
-                    q0 = (1.0 + r) + (1 / 2 + r * (1 / 6)) * r2
-                    q1 = (1 / 24 + r * (1 / 120)) + (1 / 720 + r * (1 / 5040)) * r2
-                    q2 = (1 / 40320 + r * (1 / 362880)) + (1 / 3628800) * r2
-                    w = table[np.int32(mf)] * (q0 + (q1 + q2 * r4) * r4)
-                    keep = (d2 <= radius2) and (w > cutoff)
-                    w = w if keep else 0.0
-                    kept += 1.0 if keep else 0.0
-                    wx = w * dx
-                    wy = w * dy
-                    wz = w * dz
-                    s0 += w
-                    s1x += wx
-                    s1y += wy
-                    s1z += wz
-                    sxx += wx * dx
-                    sxy += wx * dy
-                    sxz += wx * dz
-                    syy += wy * dy
-                    syz += wy * dz
-                    szz += wz * dz
+        for run in range(run_ptr[a], run_ptr[a + 1]):
+            # fresh accumulators per run: the innermost loop owns its reductions,
+            # which LLVM vectorises (carried across the run loop, it does not)
+            r0 = r1x = r1y = r1z = 0.0
+            rxx = rxy = rxz = ryy = ryz = rzz = 0.0
+            rk = 0.0
+            # views indexed from 0: numba then knows the index is non-negative and
+            # drops its negative-index wraparound, which would turn loads into gathers
+            xr = xs[run_start[run] : run_end[run]]
+            yr = ys[run_start[run] : run_end[run]]
+            zr = zs[run_start[run] : run_end[run]]
+            for j in range(xr.shape[0]):
+                dx = xr[j] - xi
+                dy = yr[j] - yi
+                dz = zr[j] - zi
+                d2 = dx * dx + dy * dy + dz * dz
+                t = min(d2 * scale, t_max)
+                mf = np.floor(t)
+                r = (mf - t) * step
+                r2 = r * r
+                r4 = r2 * r2
+                q0 = (1.0 + r) + (1 / 2 + r * (1 / 6)) * r2
+                q1 = (1 / 24 + r * (1 / 120)) + (1 / 720 + r * (1 / 5040)) * r2
+                q2 = (1 / 40320 + r * (1 / 362880)) + (1 / 3628800) * r2
+                w = table[np.int32(mf)] * (q0 + (q1 + q2 * r4) * r4)
+                keep = (d2 <= radius2) and (w > cutoff)
+                w = w if keep else 0.0
+                rk += 1.0 if keep else 0.0
+                wx = w * dx
+                wy = w * dy
+                wz = w * dz
+                r0 += w
+                r1x += wx
+                r1y += wy
+                r1z += wz
+                rxx += wx * dx
+                rxy += wx * dy
+                rxz += wx * dz
+                ryy += wy * dy
+                ryz += wy * dz
+                rzz += wz * dz
+            s0 += r0
+            s1x += r1x
+            s1y += r1y
+            s1z += r1z
+            sxx += rxx
+            sxy += rxy
+            sxz += rxz
+            syy += ryy
+            syz += ryz
+            szz += rzz
+            kept += rk
         out[i, 0] = s0
         out[i, 1] = s1x
         out[i, 2] = s1y
@@ -222,9 +251,13 @@ def _grid_sums(
 def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> KernelMoments:
     """Kernel moments with straight-line distances, in linear memory.
 
-    Vertices are binned in a uniform grid of ``CELLS_PER_RADIUS`` cells per
-    kernel radius; each vertex visits only the cells that can reach its ball.
-    Sums are accumulated relative to the vertex itself (no cancellation).
+    Vertices are put in Morton order and cut into blocks of ``BLOCK_POINTS``;
+    each vertex loops over the points of the blocks within reach of its own
+    block, merged into long contiguous runs (one run of all the points when
+    the kernel reaches across the whole mesh, as it does on a tooth at the
+    default bandwidth).  Long runs matter more than pruning the last pairs: the
+    loop is vectorised, and short runs waste it.  Sums are accumulated relative
+    to the vertex itself (no cancellation).
 
     Parameters
     ----------
@@ -237,28 +270,24 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
         change a double, i.e. those within ``kernel_radius``).
     """
     points = np.ascontiguousarray(points, dtype=np.float64)
+    n = len(points)
     radius = kernel_radius(bandwidth, cutoff)
-    lo = points.min(axis=0)
-    span = points.max(axis=0) - lo
-    cell = radius / CELLS_PER_RADIUS
-    while np.prod(np.floor(span / cell) + 1) > MAX_GRID_CELLS:
-        cell *= 2.0
-    dims = (np.floor(span / cell) + 1).astype(np.int64)
-    ijk = np.minimum(((points - lo) / cell).astype(np.int64), dims - 1)
-    cell_of = (ijk[:, 0] * dims[1] + ijk[:, 1]) * dims[2] + ijk[:, 2]
-    order = np.argsort(cell_of, kind="stable")
-    cell_start = np.searchsorted(cell_of[order], np.arange(int(np.prod(dims)) + 1))
+    order = spatial_order(points)
     ordered = points[order]
+    block_start = np.append(np.arange(0, n, BLOCK_POINTS), n).astype(np.int64)
+    lo = np.minimum.reduceat(ordered, block_start[:-1], axis=0)
+    hi = np.maximum.reduceat(ordered, block_start[:-1], axis=0)
+    run_ptr, run_start, run_end = _candidate_runs(lo, hi, block_start, radius**2)
+    block_of = np.repeat(np.arange(len(block_start) - 1), np.diff(block_start))
     with numba.parallel_chunksize(64):  # dynamic scheduling: rows differ in cost
-        sums, count = _grid_sums(
+        sums, count = _run_sums(
             np.ascontiguousarray(ordered[:, 0]),
             np.ascontiguousarray(ordered[:, 1]),
             np.ascontiguousarray(ordered[:, 2]),
-            cell_of[order],
-            cell_start.astype(np.int64),
-            dims,
-            lo,
-            float(cell),
+            block_of,
+            run_ptr,
+            run_start,
+            run_end,
             1.0 / bandwidth**2,
             float(cutoff),
             radius**2,
