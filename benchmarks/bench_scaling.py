@@ -116,7 +116,7 @@ def worker(method: str, mesh_path: str, out_path: str) -> None:
 
 
 def _run(command: list[str], out_path: Path, timeout: float) -> tuple[dict, object] | str:
-    """Run a worker; return (meta, per-vertex curvature) or a short failure note."""
+    """Run a worker; return (meta, per-vertex curvature or None) or a short failure note."""
     import numpy as np
 
     try:
@@ -130,7 +130,7 @@ def _run(command: list[str], out_path: Path, timeout: float) -> tuple[dict, obje
         return "failed: " + (lines[-1] if lines else f"exit {done.returncode}")
     with np.load(out_path) as data:
         meta = json.loads(str(data["meta"]))
-        curvature = data["local_curvature"]
+        curvature = data["local_curvature"] if "local_curvature" in data.files else None
     out_path.unlink()
     return meta, curvature
 
@@ -152,20 +152,10 @@ def run_published(mesh: Path, scratch: Path, timeout: float):
     out = scratch / f"published-{time.monotonic_ns()}.npz"
     command = [str(PUBLISHED_PYTHON), str(PUBLISHED_SCRIPT), "_worker", "published"]
     command += [str(mesh), str(out)]
-    import numpy as np
-
-    try:
-        done = subprocess.run(
-            command, capture_output=True, text=True, timeout=timeout, cwd=tempfile.gettempdir()
-        )
-    except subprocess.TimeoutExpired:
-        return f"> {timeout:.0f} s"
-    if done.returncode != 0:
-        lines = (done.stderr or done.stdout).strip().splitlines()
-        return "failed: " + (lines[-1] if lines else f"exit {done.returncode}")
-    with np.load(out) as data:
-        meta = json.loads(str(data["meta"]))
-    out.unlink()
+    outcome = _run(command, out, timeout)
+    if isinstance(outcome, str):
+        return outcome
+    meta, _ = outcome
     return {"seconds": meta["seconds"], "maxrss_gb": meta["maxrss_after_kb"] / 1e6}
 
 
