@@ -8,8 +8,8 @@ Usage (from the repository root, with the project's environment)::
 The meshes are the sample tooth with each specimen's own cusp heights (the crown's
 height scaled by a seeded random factor) and a little seeded noise, written as
 binary PLY to a temporary directory.  Each configuration runs the whole batch
-through the public batch API (``signdne.compute_batch``), reading the files, as
-the ``signDNE`` command does:
+through the public batch API (``dentopo.compute_batch``), reading the files, as
+the ``dentopo`` command does:
 
 * ``1 process, 1 thread``: the single-core baseline;
 * ``1 process, numba threads``: ``-j 1``, numba's kernels on every core;
@@ -37,9 +37,9 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from signdne import compute_batch
-from signdne._batch import available_cores
-from signdne.samples import tooth
+from dentopo import compute_batch
+from dentopo.batch import available_cores
+from dentopo.samples import tooth
 
 
 def write_meshes(directory: Path, count: int, rings: int) -> list[Path]:
@@ -83,7 +83,7 @@ def main() -> None:
     parser.add_argument("--rings", type=int, default=36, help="mesh size (default 36: 3997 v.)")
     args = parser.parse_args()
 
-    with tempfile.TemporaryDirectory(prefix="signdne-bench-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="dentopo-bench-") as tmp:
         directory = Path(tmp)
         paths = write_meshes(directory, args.count, args.rings)
         vertices = len(trimesh.load(paths[0], process=False).vertices)

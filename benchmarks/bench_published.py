@@ -1,4 +1,4 @@
-"""Benchmark signdne against the published signDNE 0.1.4 on the same meshes, in the same run.
+"""Benchmark dentopo against the published signDNE 0.1.4 on the same meshes, in the same run.
 
 Usage (from the repository root, with the project's environment)::
 
@@ -146,7 +146,7 @@ def _check_published_outputs(out, mesh) -> None:
 def _ours_run(mesh):
     import numpy as np
 
-    from signdne import ariaDNE
+    from dentopo import ariaDNE
 
     result = ariaDNE(mesh)
     out = {name: np.asarray(getattr(result, name)) for name in PER_VERTEX + SCALARS}
@@ -155,7 +155,7 @@ def _ours_run(mesh):
 
 
 class _StageTimer:
-    """Wraps the stage functions that ``signdne.ariaDNE`` calls and sums their wall time.
+    """Wraps the stage functions that ``dentopo.ariaDNE`` calls and sums their wall time.
 
     Each function is replaced, for the rest of the worker process, in the modules that call it,
     so the timed call runs the real code path with one ``perf_counter`` pair per stage.
@@ -171,7 +171,12 @@ class _StageTimer:
         ("close holes", "close_holes"),
         ("inside test", "inside"),
     )
-    MODULES = ("signdne._ariadne", "signdne._sign", "signdne._kernel", "signdne._fastgauss")
+    MODULES = (
+        "dentopo.ariadne._ariadne",
+        "dentopo.sign._methods",
+        "dentopo.ariadne._kernel",
+        "dentopo.ariadne._fastgauss",
+    )
 
     def __init__(self):
         self.seconds: dict[str, float] = {}
@@ -217,7 +222,7 @@ def _preload_exact_fallback(mesh) -> None:
     import numpy as np
 
     try:
-        from signdne._winding import exact_winding_number
+        from dentopo.sign._winding import exact_winding_number
     except ImportError:
         return
     exact_winding_number(np.asarray(mesh.vertices), np.asarray(mesh.faces), np.zeros((1, 3)))
@@ -235,7 +240,7 @@ def worker(impl: str, mesh_path: str, out_path: str, stages: bool) -> None:
         if impl == "published":
             import signDNE  # noqa: F401
         else:
-            import signdne  # noqa: F401
+            import dentopo  # noqa: F401
     except ImportError as exc:
         where = sys.executable
         raise BenchmarkError(f"cannot import the {impl} package in {where}: {exc}") from exc
@@ -570,7 +575,7 @@ def report_stages(results):
     missing = {m for entry in results.values() for m in entry.get("stages_missing", [])}
     missing -= {"geodesic_moments", "fast_euclidean_moments"}
     if missing:
-        print(f"(stages not found in signdne, counted in 'other': {sorted(missing)})")
+        print(f"(stages not found in dentopo, counted in 'other': {sorted(missing)})")
 
 
 _STAGE_LABELS = ("prepare", "kernel", "eigen", "close holes", "inside test")
@@ -578,7 +583,7 @@ _STAGE_LABELS = ("prepare", "kernel", "eigen", "close holes", "inside test")
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
-        description="Time signdne against the published signDNE 0.1.4 and compare every output."
+        description="Time dentopo against the published signDNE 0.1.4 and compare every output."
     )
     parser.add_argument(
         "--meshes",
@@ -624,7 +629,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     known = known_published_errors(args.data)
     results = {}
-    with tempfile.TemporaryDirectory(prefix="bench-signdne-") as scratch:
+    with tempfile.TemporaryDirectory(prefix="bench-dentopo-") as scratch:
         for name, path in paths.items():
             print(f"{name}: published x{args.repeat_published}", end="", flush=True)
             pub_runs = [

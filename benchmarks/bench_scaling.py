@@ -7,7 +7,7 @@ Usage (from the repository root, with the project's environment)::
     .venv/bin/python benchmarks/bench_scaling.py --sizes 5000000 --methods fast
 
 Meshes are generated reproducibly, never stored in the repository: the sample tooth crown
-(``signdne.samples.tooth``, an open crown of ``3 r (r + 1) + 1`` vertices) at the ring count
+(``dentopo.samples.tooth``, an open crown of ``3 r (r + 1) + 1`` vertices) at the ring count
 closest to each size, with seeded Gaussian noise of ``--noise`` times the mean edge length (a
 scan is never perfectly smooth), written as PLY into a temporary folder.
 
@@ -54,7 +54,7 @@ def make_mesh(vertices: int, folder: Path, noise: float) -> Path:
     import numpy as np
     import trimesh
 
-    from signdne.samples import tooth
+    from dentopo.samples import tooth
 
     rings = rings_for(vertices)
     path = folder / f"tooth_r{rings}_n{noise:g}.ply"
@@ -80,7 +80,7 @@ def worker(method: str, mesh_path: str, out_path: str) -> None:
     import numpy as np
     import trimesh
 
-    from signdne import ariaDNE
+    from dentopo import ariaDNE
 
     warnings.simplefilter("ignore")
     tiny = trimesh.creation.icosphere(subdivisions=1)

@@ -12,7 +12,7 @@ The original is ``normal.ply``; the perturbations are the paper's own robustness
 value is normalised by the same method on ``normal``.  "Sign agreement" is the fraction of the
 perturbed surface's area whose sign (ours: per vertex; classic DNE, molaR's convex/concave
 class: per face) equals the original's at the nearest point (see
-``signdne.sign_agreement``).
+``dentopo.sign_agreement``).
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from signdne import robustness_study, write_study
-from signdne._sign import SIGN_METHODS
+from dentopo import robustness_study, write_study
+from dentopo.sign import SIGN_METHODS
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_DATA = ROOT.parent / "shared" / "data" / "meshes"

@@ -48,7 +48,7 @@ def sphere():
 
 @pytest.fixture
 def tooth():
-    from signdne.samples import tooth
+    from dentopo.samples import tooth
 
     return tooth(rings=16)
 

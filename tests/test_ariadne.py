@@ -8,7 +8,7 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from conftest import plane_patch
-from signdne import AriaDNEResult, ariaDNE
+from dentopo import AriaDNEResult, ariaDNE
 
 SCALARS = ("dne", "positive_dne", "negative_dne")
 
@@ -111,7 +111,7 @@ def test_geodesic_matches_dense_dijkstra_reference(tooth):
     """The bounded, blocked Dijkstra equals a precomputed all-pairs matrix."""
     from scipy.sparse.csgraph import dijkstra
 
-    from signdne._kernel import edge_graph
+    from dentopo.ariadne._kernel import edge_graph
 
     geodesic = ariaDNE(tooth, distance_type="geodesic")
     points = np.asarray(geodesic.mesh.vertices) / np.sqrt(geodesic.surface_area)

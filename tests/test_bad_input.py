@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne import ariaDNE
+from dentopo import ariaDNE
 
 TETRA_V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
 TETRA_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])

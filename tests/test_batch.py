@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne import COLUMNS, ariaDNE, compute_batch, find_mesh_files, to_dataframe
-from signdne._output import atomic_write, read_table, write_table
-from signdne.samples import tooth
+from dentopo import COLUMNS, ariaDNE, compute_batch, find_mesh_files, to_dataframe
+from dentopo.formats import atomic_write, read_table, write_table
+from dentopo.samples import tooth
 
 
 @pytest.fixture
@@ -103,8 +103,8 @@ def test_find_mesh_files_dedupes_links_and_skips_hidden_and_own_outputs(tmp_path
     tooth(rings=6).export(tmp_path / "a.ply")
     os.symlink(tmp_path / "a.ply", tmp_path / "link_to_a.ply")
     (tmp_path / ".hidden.ply").write_bytes(b"")
-    (tmp_path / "a.signdne.ply").write_bytes(b"")
-    (tmp_path / "a.signdne.csv").write_text("")
+    (tmp_path / "a.dentopo.ply").write_bytes(b"")
+    (tmp_path / "a.dentopo.csv").write_text("")
     (tmp_path / "readme.txt").write_text("")
     found = find_mesh_files([tmp_path, tmp_path / "a.ply", str(tmp_path / "*.ply")])
     assert found.files == [str(tmp_path / "a.ply")]
@@ -125,7 +125,7 @@ def test_tables_read_back_exactly(tmp_path, folder, ext):
 def test_read_table_rejects_other_files(tmp_path):
     path = tmp_path / "other.csv"
     path.write_text("a,b\n1,2\n")
-    with pytest.raises(ValueError, match="not a signDNE results table"):
+    with pytest.raises(ValueError, match="not a dentopo results table"):
         read_table(path)
 
 

@@ -7,7 +7,7 @@ import pytest
 import trimesh
 
 from conftest import plane_patch, shared_mesh
-from signdne import classic_dne
+from dentopo import classic_dne
 
 #: molaR 6.0's output on normal.ply (CLASSIC_DNE.md).
 MOLAR_NORMAL = {

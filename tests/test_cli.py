@@ -1,4 +1,4 @@
-"""The signDNE command, called as ``main([...])`` on small generated meshes in tmp_path."""
+"""The dentopo command, called as ``main([...])`` on small generated meshes in tmp_path."""
 
 from __future__ import annotations
 
@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne import COLUMNS, __version__, _cli, ariaDNE
-from signdne._cli import main
-from signdne.samples import tooth
+from dentopo import COLUMNS, __version__, ariaDNE
+from dentopo.cli import SUBCOMMANDS, main
+from dentopo.cli import _compute as _cli
+from dentopo.samples import tooth
 
 
 def small_tooth(path, *, rings=10):
@@ -41,9 +42,9 @@ def test_version(capsys):
 def test_help_shows_the_papers_examples(capsys):
     assert main(["--help"]) == 0
     out = capsys.readouterr().out
-    assert "signDNE path/to/mesh1.obj path/to/mesh2.ply -o DNEs.csv" in out
-    assert "signDNE path/to/mesh/directory -b 0.1" in out
-    assert "signDNE path/to/mesh.ply -v" in out
+    assert "dentopo path/to/mesh1.obj path/to/mesh2.ply -o DNEs.csv" in out
+    assert "dentopo path/to/mesh/directory -b 0.1" in out
+    assert "dentopo path/to/mesh.ply -v" in out
 
 
 def test_samples_print_a_table_on_stdout_and_progress_on_stderr(capsys):
@@ -82,7 +83,7 @@ def test_directory_with_bandwidth_recursive_skipping_hidden_and_own_outputs(tmp_
     small_sphere(scans / "upper" / "b.stl")
     small_sphere(scans / ".hidden.ply")
     small_sphere(scans / ".cache" / "c.ply")
-    small_sphere(scans / "a.signdne.ply")  # looks like our own per-vertex output
+    small_sphere(scans / "a.dentopo.ply")  # looks like our own per-vertex output
     (scans / "notes.txt").write_text("not a mesh")
     out = tmp_path / "out.json"
     assert main([str(scans), "-b", "0.1", "-o", str(out), "-q"]) == 0
@@ -260,7 +261,7 @@ def test_a_failed_write_keeps_the_old_output(tmp_path, capsys, monkeypatch):
     def disk_full(value):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr("signdne._output._csv_cell", disk_full)
+    monkeypatch.setattr("dentopo.formats._tables._csv_cell", disk_full)
     assert main([str(mesh), "-o", str(out)]) == 1
     assert "No space left" in capsys.readouterr().err
     assert out.read_text() == "precious results\n"
@@ -297,7 +298,7 @@ def test_per_vertex_files(tmp_path):
     out_dir = tmp_path / "per vertex"  # created on demand
     assert main([str(mesh), "--per-vertex", str(out_dir), "-q"]) == 0
     result = ariaDNE(str(mesh))
-    ply = trimesh.load(out_dir / "molar.signdne.ply", process=False)
+    ply = trimesh.load(out_dir / "molar.dentopo.ply", process=False)
     assert np.array_equal(ply.vertices, result.mesh.vertices)
     assert np.array_equal(ply.faces, result.mesh.faces)
     data = ply.metadata["_ply_raw"]["vertex"]["data"]
@@ -308,7 +309,7 @@ def test_per_vertex_files(tmp_path):
     concave = result.local_curvature < 0.5 * result.local_curvature.min()
     assert (colors[convex, 0] > colors[convex, 2]).all()  # red where convex
     assert (colors[concave, 2] > colors[concave, 0]).all()  # blue where concave
-    table = np.genfromtxt(out_dir / "molar.signdne.csv", delimiter=",", names=True)
+    table = np.genfromtxt(out_dir / "molar.dentopo.csv", delimiter=",", names=True)
     assert table.dtype.names == ("vertex", "x", "y", "z", "local_curvature", "local_dne")
     assert np.array_equal(table["local_curvature"], result.local_curvature)
     # our own outputs are not taken for inputs the next time round
@@ -323,7 +324,7 @@ def test_per_vertex_names_stay_unique(tmp_path):
     assert (
         main([str(tmp_path / "left"), str(tmp_path / "right"), "--per-vertex", str(out_dir)]) == 0
     )
-    assert len(list(out_dir.glob("molar-*.signdne.ply"))) == 2
+    assert len(list(out_dir.glob("molar-*.dentopo.ply"))) == 2
 
 
 def test_jobs_2_gives_the_same_rows_as_jobs_1(tmp_path):
@@ -343,14 +344,14 @@ def test_jobs_2_gives_the_same_rows_as_jobs_1(tmp_path):
 
 def test_subcommands_are_dispatched_on_the_first_argument(tmp_path, monkeypatch, capsys):
     calls = []
-    monkeypatch.setitem(_cli.SUBCOMMANDS, "robustness", lambda argv: calls.append(argv) or 7)
+    monkeypatch.setitem(SUBCOMMANDS, "robustness", lambda argv: calls.append(argv) or 7)
     assert main(["robustness", "--flag", "x"]) == 7
     assert calls == [["--flag", "x"]]
     # a lazy "module:function" entry
     module = types.ModuleType("fake_subcommand")
     module.run = lambda argv: len(argv)
     monkeypatch.setitem(sys.modules, "fake_subcommand", module)
-    monkeypatch.setitem(_cli.SUBCOMMANDS, "sweep", "fake_subcommand:run")
+    monkeypatch.setitem(SUBCOMMANDS, "sweep", "fake_subcommand:run")
     assert main(["sweep", "a", "b"]) == 2
     # a mesh file called like a subcommand
     monkeypatch.chdir(tmp_path)
@@ -362,7 +363,7 @@ def test_subcommands_are_dispatched_on_the_first_argument(tmp_path, monkeypatch,
 
 def test_visualisation_not_available_yet(tmp_path, monkeypatch, capsys):
     mesh = small_sphere(tmp_path / "a.ply")
-    monkeypatch.setitem(sys.modules, "signdne._render", None)  # import fails
+    monkeypatch.setitem(sys.modules, "dentopo.figures._render", None)  # import fails
     assert main([str(mesh), "-v"]) == 2
     assert "visualisation is not available" in capsys.readouterr().err
 
@@ -373,7 +374,7 @@ class _DisplayUnavailableError(RuntimeError):
 
 def fake_renderer(monkeypatch, *, display=True):
     calls = []
-    module = types.ModuleType("signdne._render")
+    module = types.ModuleType("dentopo.figures._render")
     module.DisplayUnavailableError = _DisplayUnavailableError
 
     def render_curvature(mesh, result=None, **options):
@@ -386,7 +387,7 @@ def fake_renderer(monkeypatch, *, display=True):
 
     module.render_curvature = render_curvature
     module.render_panel = render_panel
-    monkeypatch.setitem(sys.modules, "signdne._render", module)
+    monkeypatch.setitem(sys.modules, "dentopo.figures._render", module)
     return calls
 
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from signdne import ColorScale, color_scale, diverging_rgb
-from signdne._colors import NEUTRAL, lookup_table
+from dentopo import ColorScale, color_scale, diverging_rgb
+from dentopo.figures._colors import NEUTRAL, lookup_table
 
 
 def test_zero_is_exactly_neutral_and_the_ends_are_red_and_blue():

@@ -12,9 +12,10 @@ import json
 import pytest
 import trimesh
 
-from signdne import compute_batch
-from signdne._cli import SCHEDULER_ENV, main
-from signdne.samples import tooth
+from dentopo import compute_batch
+from dentopo.cli import main
+from dentopo.cli._compute import SCHEDULER_ENV
+from dentopo.samples import tooth
 
 distributed = pytest.importorskip("distributed")
 
@@ -64,7 +65,7 @@ def test_cli_scheduler_option_and_environment_variable(cluster, folder, tmp_path
     expected = without_seconds(json.loads(local.read_text()))
     assert without_seconds(json.loads(by_option.read_text())) == expected
     assert without_seconds(json.loads(by_env.read_text())) == expected
-    assert len(list((tmp_path / "pv").glob("*.signdne.ply"))) == 4  # written by the workers
+    assert len(list((tmp_path / "pv").glob("*.dentopo.ply"))) == 4  # written by the workers
 
 
 def test_unreachable_scheduler_is_a_usage_error(folder, capsys):

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne import _fastgauss, _kernel, ariaDNE
-from signdne._mesh import prepare
-from signdne.samples import tooth as make_tooth
+from dentopo import ariaDNE
+from dentopo.ariadne import _fastgauss, _kernel
+from dentopo.mesh import prepare
+from dentopo.samples import tooth as make_tooth
 
 pytest.importorskip("finufft")
 
@@ -106,7 +107,7 @@ def test_too_small_bandwidth_is_refused(sphere, monkeypatch):
 
 def test_without_finufft(sphere, monkeypatch):
     monkeypatch.setitem(sys.modules, "finufft", None)  # import finufft now fails
-    with pytest.raises(ImportError, match=r"signdne\[fast\]"):
+    with pytest.raises(ImportError, match=r"dentopo\[fast\]"):
         ariaDNE(sphere, method="fast")
     monkeypatch.setattr(_fastgauss, "AUTO_FAST_VERTICES", 10)
     assert ariaDNE(sphere).method == "exact"

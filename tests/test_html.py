@@ -25,7 +25,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from signdne import ariaDNE, render_curvature, render_panel
+from dentopo import ariaDNE, render_curvature, render_panel
 
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read screenshots")
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -75,7 +75,7 @@ def screenshot(tmp_path, url: str, name: str) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def tooth_page(tmp_path_factory):
-    from signdne.samples import tooth
+    from dentopo.samples import tooth
 
     mesh = tooth(rings=16)
     path = tmp_path_factory.mktemp("html") / "tooth.html"
@@ -108,14 +108,14 @@ def test_page_makes_no_network_requests(tmp_path, tooth_page):
 def test_the_request_check_sees_requests(tmp_path):
     control = tmp_path / "control.html"
     control.write_text(
-        '<!DOCTYPE html><img src="http://signdne-control.invalid/a.png">'
-        '<script>fetch("https://signdne-control.invalid/b").catch(() => 0)</script>'
+        '<!DOCTYPE html><img src="http://dentopo-control.invalid/a.png">'
+        '<script>fetch("https://dentopo-control.invalid/b").catch(() => 0)</script>'
     )
     net_log = tmp_path / "net.json"
     chromium(tmp_path, control.as_uri(), f"--log-net-log={net_log}", "--dump-dom")
     assert sorted(page_requests(net_log)) == [
-        "http://signdne-control.invalid/a.png",
-        "https://signdne-control.invalid/b",
+        "http://dentopo-control.invalid/a.png",
+        "https://dentopo-control.invalid/b",
     ]
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from signdne._kernel import euclidean_moments, exp_table, kernel_radius
+from dentopo.ariadne._kernel import euclidean_moments, exp_table, kernel_radius
 
 
 def brute_force(points, bandwidth, cutoff):

@@ -6,8 +6,8 @@ import numpy as np
 import trimesh
 
 from conftest import plane_patch
-from signdne._closure import orient_consistently
-from signdne._mesh import _may_have_small_holes, clean
+from dentopo.mesh import clean, orient_consistently
+from dentopo.mesh._prepare import _may_have_small_holes
 
 
 def _trimesh_fill_holes(mesh):

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne import ariaDNE, curvature_measure, curvature_measure_sign, measure_radius
-from signdne._sign import outward_faces
+from dentopo import ariaDNE, curvature_measure, curvature_measure_sign, measure_radius
+from dentopo.mesh import outward_faces
 
 
 def test_radius_rule_is_bandwidth_times_sqrt_area():

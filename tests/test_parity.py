@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from conftest import REFERENCE, ROBUSTNESS_SET, shared_mesh
-from signdne import ariaDNE
+from dentopo import ariaDNE
 
 TOTALS = (
     "dne",

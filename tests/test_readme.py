@@ -16,9 +16,9 @@ def readme_commands() -> list[str]:
 def test_readme_starts_with_two_commands():
     text = (ROOT / "README.md").read_text()
     first_block = text.index("```bash")
-    assert text[:first_block].strip().startswith("# signdne")
+    assert text[:first_block].strip().startswith("# dentopo")
     setup_and_run, setup_and_test = readme_commands()
-    assert "signDNE --samples" in setup_and_run
+    assert "dentopo --samples" in setup_and_run
     assert "pytest" in setup_and_test
 
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from conftest import plane_patch
-from signdne import DisplayUnavailableError, ariaDNE, render_curvature, render_panel
+from dentopo import DisplayUnavailableError, ariaDNE, render_curvature, render_panel
 
 pv = pytest.importorskip("pyvista", reason="pyvista (the viz extra) is needed to render")
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read the PNG")
@@ -138,7 +138,7 @@ def test_caller_mesh_is_not_modified(tmp_path, tooth):
 
 def test_import_does_not_load_heavy_stacks():
     heavy = ("pyvista", "vtk", "vtkmodules", "matplotlib", "pandas", "dask", "finufft")
-    code = f"import sys, signdne; print([m for m in {heavy!r} if m in sys.modules])"
+    code = f"import sys, dentopo; print([m for m in {heavy!r} if m in sys.modules])"
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     ).stdout

@@ -1,4 +1,4 @@
-"""The signDNE command's picture options, through ``main([...])``."""
+"""The dentopo command's picture options, through ``main([...])``."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import sys
 
 import pytest
 
-from signdne._cli import main
-from signdne.samples import sample_paths
+from dentopo.cli import main
+from dentopo.samples import sample_paths
 
 pytest.importorskip("pyvista", reason="pyvista (the viz extra) is needed to render")
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read the PNG")

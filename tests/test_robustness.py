@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne import (
+from dentopo import (
     ariaDNE,
     bandwidth_sweep,
     classic_dne,
@@ -19,10 +19,10 @@ from signdne import (
     write_study,
     write_sweep,
 )
-from signdne._cli import main
-from signdne._robustness import STUDY_COLUMNS, refine
-from signdne._study_cli import robustness_main, sweep_main
-from signdne.samples import tooth
+from dentopo.cli import main
+from dentopo.cli._study import robustness_main, sweep_main
+from dentopo.samples import tooth
+from dentopo.study import STUDY_COLUMNS, refine
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -163,7 +163,7 @@ def test_commands(crown, tmp_path, capsys):
     assert (tmp_path / "study" / "robustness.csv").exists()
     assert "sign_agreement" in capsys.readouterr().out
     assert sweep_main([str(path), "-b", "0.06", "-o", str(tmp_path), "--no-figures"]) == 0
-    # registered as subcommands of the signDNE command
+    # registered as subcommands of the dentopo command
     assert main(["sweep", str(path), "-b", "0.05", "-o", str(tmp_path / "s"), "--no-figures"]) == 0
     assert (tmp_path / "s" / "sweep.csv").exists()
     assert (tmp_path / "sweep.csv").exists()

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne.samples import NAMES, generate, sample_paths
+from dentopo.samples import NAMES, generate, sample_paths
 
 
 @pytest.mark.parametrize("name", NAMES)

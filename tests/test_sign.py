@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from signdne import ariaDNE
-from signdne._sign import SIGN_METHODS, outward_faces
+from dentopo import ariaDNE
+from dentopo.mesh import outward_faces
+from dentopo.sign import SIGN_METHODS
 
 CURVATURE_SIGNS = ("centroid", "winding", "mean_curvature")
 
@@ -37,7 +38,7 @@ def test_tooth_cusp_positive_basin_negative(tooth, method):
 
 
 def test_gaussian_sign_sees_a_bowl_as_positive_and_a_saddle_as_negative(tooth):
-    from signdne.samples import saddle
+    from dentopo.samples import saddle
 
     result = ariaDNE(tooth, sign_method="gaussian_curvature")
     cusp, basin = _landmarks(tooth)
@@ -99,8 +100,8 @@ def test_unknown_sign_method(sphere, bad):
 def test_command_sign_method(tmp_path):
     import csv
 
-    from signdne._cli import main
-    from signdne.samples import sample_paths
+    from dentopo.cli import main
+    from dentopo.samples import sample_paths
 
     out = tmp_path / "out.csv"
     assert main([str(sample_paths()["sphere"]), "--sign-method", "Winding", "-o", str(out)]) == 0

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from signdne._closure import boundary_edges, close_holes, orient_consistently
-from signdne._winding import exact_winding_number, inside, winding_number
+from dentopo.mesh import boundary_edges, close_holes, orient_consistently
+from dentopo.sign._winding import exact_winding_number, inside, winding_number
 
 
 def test_fast_winding_number_agrees_with_exact_sum(sphere):
@@ -75,7 +75,7 @@ def test_two_holes_get_two_caps():
 
 
 def test_long_cap_triangles_are_cut_without_changing_the_surface(tooth):
-    from signdne._winding import _split_long
+    from dentopo.sign._winding import _split_long
 
     vertices, faces = close_holes(np.asarray(tooth.vertices), np.asarray(tooth.faces))
     tri = vertices[faces]

@@ -1,0 +1,76 @@
+"""dentopo: dental topography for triangle meshes.
+
+ariaDNE (Shan et al. 2019) measures how curved a surface is, robustly to how it
+is meshed; its sign-oriented extension (Hjerrild et al., signDNE) splits it
+into convex (cusps, ridges) and concave (valleys, basins) parts.  Classic DNE
+is computed as molaR 6.0 computes it.
+
+The package is layered; each subpackage's docstring says what it holds and
+what it may import, and the arrows run one way, from the bottom up:
+``mesh`` < ``sign`` < ``ariadne`` < ``topography`` < ``figures`` < ``formats``
+< ``batch`` < ``study`` < ``cli``.
+
+>>> from dentopo import ariaDNE
+>>> result = ariaDNE("tooth.ply")             # doctest: +SKIP
+>>> result.dne, result.positive_dne, result.negative_dne  # doctest: +SKIP
+"""
+
+from ._version import __version__
+from .ariadne import AriaDNEResult, ariaDNE
+from .batch import compute_batch, find_mesh_files, to_dataframe
+from .figures import (  # pyvista is imported only when a picture is drawn
+    ColorScale,
+    DisplayUnavailableError,
+    color_scale,
+    diverging_rgb,
+    render_bandwidths,
+    render_comparison,
+    render_curvature,
+    render_panel,
+)
+from .formats import COLUMNS
+from .mesh import load_mesh
+from .sign import curvature_measure, curvature_measure_sign, measure_radius
+from .study import (
+    BandwidthSweep,
+    RobustnessStudy,
+    bandwidth_sweep,
+    perturb,
+    robustness_study,
+    sign_agreement,
+    write_study,
+    write_sweep,
+)
+from .topography import ClassicDNEResult, classic_dne
+
+__all__ = [
+    "COLUMNS",
+    "AriaDNEResult",
+    "BandwidthSweep",
+    "ClassicDNEResult",
+    "ColorScale",
+    "DisplayUnavailableError",
+    "RobustnessStudy",
+    "__version__",
+    "ariaDNE",
+    "bandwidth_sweep",
+    "classic_dne",
+    "color_scale",
+    "compute_batch",
+    "curvature_measure",
+    "curvature_measure_sign",
+    "diverging_rgb",
+    "find_mesh_files",
+    "load_mesh",
+    "measure_radius",
+    "perturb",
+    "render_bandwidths",
+    "render_comparison",
+    "render_curvature",
+    "render_panel",
+    "robustness_study",
+    "sign_agreement",
+    "to_dataframe",
+    "write_study",
+    "write_sweep",
+]

@@ -1,0 +1,5 @@
+"""``python -m dentopo``: the dentopo command."""
+
+from .cli import run
+
+run()

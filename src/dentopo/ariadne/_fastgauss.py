@@ -1,0 +1,264 @@
+"""Fast Gauss transform of the kernel moments, for large meshes (``method="fast"``).
+
+The Euclidean kernel sums of ariaDNE are a discrete Gauss transform:
+``F(x) = sum_j exp(-|x - x_j|**2 / h**2)`` evaluated at every vertex.  All ten
+moments follow from ``F`` and its derivatives, because differentiating the
+kernel brings down the offsets ``x_j - x``:
+
+* ``S0_i = F(x_i)``
+* ``sum_j w_ij (x_j - x_i) = (h**2 / 2) grad F(x_i)``
+* ``sum_j w_ij (x_j - x_i)(x_j - x_i)^T = (h**4 / 4) Hess F(x_i) + (h**2 / 2) F(x_i) I``
+
+``F`` is computed spectrally on a periodic box padded by more than the
+kernel's reach (so no periodic image contributes a weight above 1e-17): one
+type-1 non-uniform FFT (FINUFFT, Barnett, Magland & af Klinteberg 2019,
+doi:10.1137/18M120885X) takes the vertices to Fourier modes, the modes are
+multiplied by the Gaussian's Fourier transform (and by ``i k`` and ``-k k^T``
+for the derivatives), and type-2 transforms evaluate the ten real fields at the
+vertices, packed in pairs as the real and imaginary parts of five complex ones.
+Cost: O(n + N log N) for N Fourier modes (N grows as ``(extent / h)**3``,
+independent of n); memory linear in n.
+
+Error model.  FINUFFT's tolerance ``eps`` bounds the relative l2 error of each
+transform.  Because the moments are taken *about each vertex* through the
+derivatives (never as raw moments ``sum w x x^T`` minus ``g g^T``), no large
+coordinate offsets cancel: the covariance ``C_i`` has an absolute error of about
+``eps * h**2``, i.e. about ``eps`` relative to its trace, and the local bending
+``lambda / trace`` an absolute error of a few ``eps``.  The one cancellation
+left is in the normal direction, where ``(h**4/4) F_nn`` and ``(h**2/2) F``
+nearly cancel; it costs nothing relative to the trace, which is what the
+bending is divided by.  The weighted centroid has an absolute error of about
+``eps * h``; only centroids that close to the closed surface can change sign.
+With the default ``eps = 1e-10`` the totals agreed with the exact sums to 2e-12
+relative or better and every sign was identical on noisy crowns of 10k-120k
+vertices (benchmarks/bench_scaling.py; tests/test_fastgauss.py checks 1e-8).
+
+A weight cutoff ``c > 0`` truncates the kernel, which a Gauss transform cannot
+do; the fast path requires ``cutoff == 0`` and Euclidean distances.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._kernel import KernelMoments, kernel_radius
+
+#: FINUFFT tolerance used by default (see the module's error model).
+DEFAULT_TOLERANCE = 1e-10
+
+#: Fourier modes are kept while the Gaussian's multiplier exceeds exp(-CUT**2).
+_SPECTRAL_CUT = 6.3
+#: The periodic box is padded by this many bandwidths beyond the vertices'
+#: extent: images are then at least this far away (weight below 6e-18).
+_PERIODIC_PAD = 6.3
+#: Above this many Fourier modes the fast path refuses (memory, and the exact
+#: sums are cheap anyway when h is that small relative to the mesh).
+MAX_MODES = 64_000_000
+#: Vertices with a kernel sum below this may have 3 or fewer neighbours; their
+#: neighbours are counted exactly (a vertex's own weight is 1).
+_FEW_NEIGHBOURS_WEIGHT = 4.0
+
+
+def _require_finufft():
+    try:
+        import finufft
+    except ImportError as exc:  # pragma: no cover - exercised without the extra
+        raise ImportError(
+            'method="fast" needs the optional FINUFFT library: '
+            "pip install 'dentopo[fast]' (or use method=\"exact\")"
+        ) from exc
+    return finufft
+
+
+def finufft_available() -> bool:
+    """True if the optional ``finufft`` package can be imported."""
+    try:
+        _require_finufft()
+    except ImportError:
+        return False
+    return True
+
+
+def mode_grid(points: np.ndarray, bandwidth: float) -> tuple[np.ndarray, np.ndarray]:
+    """Periods ``L`` (3,) and odd mode counts ``N`` (3,) of the periodic box."""
+    span = np.ptp(points, axis=0)
+    period = span + _PERIODIC_PAD * bandwidth
+    k_max = 2.0 * _SPECTRAL_CUT / bandwidth
+    half = np.ceil(k_max * period / (2.0 * np.pi)).astype(np.int64)
+    return period, 2 * half + 1
+
+
+def fits(points: np.ndarray, bandwidth: float) -> bool:
+    """True if the fast transform's mode grid stays within ``MAX_MODES``."""
+    _, modes = mode_grid(points, bandwidth)
+    return int(np.prod(modes)) <= MAX_MODES
+
+
+def _few_neighbour_counts(points, weight, radius, cap):
+    """Neighbour counts (self included), exact where they can be below ``cap``.
+
+    A vertex with fewer than ``cap`` neighbours within ``radius`` has a kernel
+    sum below ``cap`` (every weight is at most 1), so only those are counted;
+    the others get ``cap``.
+    """
+    count = np.full(len(points), cap, dtype=np.int64)
+    maybe = np.flatnonzero(weight < cap + 1e-6)
+    if len(maybe):
+        from scipy.spatial import cKDTree
+
+        tree = cKDTree(points)
+        found = tree.query_ball_point(points[maybe], radius, return_length=True)
+        count[maybe] = np.minimum(found, cap)
+    return count
+
+
+def fast_euclidean_moments(
+    points: np.ndarray,
+    bandwidth: float,
+    *,
+    tolerance: float = DEFAULT_TOLERANCE,
+    nthreads: int | None = None,
+) -> KernelMoments:
+    """Kernel moments with straight-line distances by a fast Gauss transform.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        Vertex positions (unit-area scale, centred).
+    bandwidth : float
+        Kernel bandwidth ``h``; every weight ``exp(-d**2 / h**2)`` is summed
+        (no cutoff).
+    tolerance : float, default ``DEFAULT_TOLERANCE``
+        FINUFFT's relative tolerance (see the module's error model).
+    nthreads : int, optional
+        Threads for FINUFFT (default: numba's thread count).
+
+    Returns
+    -------
+    KernelMoments
+        As ``euclidean_moments`` returns, except that ``count`` is exact only
+        where it is below 4 (vertices with more neighbours get 4): counts are
+        used only to warn about vertices with 3 or fewer neighbours.
+
+    Raises
+    ------
+    ImportError
+        If FINUFFT is not installed.
+    ValueError
+        If the mesh is so large relative to ``bandwidth`` that the mode grid
+        would exceed ``MAX_MODES``.
+    """
+    finufft = _require_finufft()
+    if nthreads is None:
+        import numba
+
+        nthreads = numba.get_num_threads()
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    h = float(bandwidth)
+    period, modes = mode_grid(points, h)
+    if int(np.prod(modes)) > MAX_MODES:
+        raise ValueError(
+            f"bandwidth {h} is too small for the fast transform on this mesh "
+            f"({int(np.prod(modes))} Fourier modes > {MAX_MODES}); use method='exact'"
+        )
+    centre = (points.min(axis=0) + points.max(axis=0)) / 2.0
+    scaled = (points - centre) * (2.0 * np.pi / period)
+    coords = [np.ascontiguousarray(scaled[:, a]) for a in range(3)]
+    shape = tuple(int(m) for m in modes)
+    opts = {"nthreads": int(nthreads)}
+
+    plan = finufft.Plan(1, shape, n_trans=1, eps=tolerance, isign=-1, **opts)
+    plan.setpts(*coords)
+    spectrum = plan.execute(np.ones(len(points), dtype=np.complex128))
+    del plan
+
+    # wavenumbers per axis (CMCL order: -(N-1)/2 .. (N-1)/2) and the Gaussian's
+    # Fourier coefficients on the periodic box
+    k = [
+        2.0 * np.pi * np.arange(-(m // 2), m // 2 + 1) / p
+        for m, p in zip(modes, period, strict=True)
+    ]
+    kx, ky, kz = k[0][:, None, None], k[1][None, :, None], k[2][None, None, :]
+    gauss = (np.pi**1.5 * h**3 / np.prod(period)) * (
+        np.exp(-(kx**2) * h**2 / 4.0)
+        * np.exp(-(ky**2) * h**2 / 4.0)
+        * np.exp(-(kz**2) * h**2 / 4.0)
+    )
+    spectrum *= gauss
+    del gauss
+    packed = np.empty((5, *shape), dtype=np.complex128)
+    # real and imaginary parts of each packed field are two real fields
+    packed[0] = spectrum * (1.0 - 1j * kx**2)  # F,   F_xx
+    packed[1] = spectrum * (-(ky**2) - 1j * kz**2)  # F_yy, F_zz
+    packed[2] = spectrum * (-(kx * ky) - 1j * (kx * kz))  # F_xy, F_xz
+    packed[3] = spectrum * (-(ky * kz) - kx)  # F_yz, F_x  (i * i k_x = -k_x)
+    packed[4] = spectrum * (1j * ky - kz)  # F_y,  F_z
+    del spectrum
+
+    plan = finufft.Plan(2, shape, n_trans=5, eps=tolerance, isign=1, **opts)
+    plan.setpts(*coords)
+    values = plan.execute(packed)
+    del plan, packed
+
+    f = values[0].real
+    fxx, fyy, fzz = values[0].imag, values[1].real, values[1].imag
+    fxy, fxz = values[2].real, values[2].imag
+    fyz, fx = values[3].real, values[3].imag
+    fy, fz = values[4].real, values[4].imag
+    half_h2 = h**2 / 2.0
+    quarter_h4 = h**4 / 4.0
+    first = half_h2 * np.column_stack([fx, fy, fz])
+    hess = np.stack([fxx, fxy, fxz, fxy, fyy, fyz, fxz, fyz, fzz], axis=1).reshape(-1, 3, 3)
+    second = quarter_h4 * hess
+    for a in range(3):
+        second[:, a, a] += half_h2 * f
+    weight = np.ascontiguousarray(f)
+    radius = kernel_radius(h, 0.0)
+    count = _few_neighbour_counts(points, weight, radius, int(_FEW_NEIGHBOURS_WEIGHT))
+    return KernelMoments(weight, first, second, count)
+
+
+METHODS = ("auto", "exact", "fast")
+
+#: ``method="auto"`` uses the fast transform from this many vertices on.  Below
+#: it the exact sums take a second or two (their cost grows as n**2 at the
+#: default bandwidth, where the kernel reaches about half the unit-area mesh,
+#: while the transform's grows as n) and they are the parity reference; the
+#: robustness set's meshes (up to about 10k vertices) stay on the exact path.
+AUTO_FAST_VERTICES = 20_000
+
+
+def check_method(method) -> str:
+    """Validate a ``method`` choice (case-insensitive)."""
+    if not isinstance(method, str) or method.lower() not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}; got {method!r}")
+    return method.lower()
+
+
+def resolve_method(method: str, points: np.ndarray, bandwidth: float, cutoff: float, kind: str):
+    """The method that will run: ``"exact"`` or ``"fast"``.
+
+    ``kind`` is ``"euclidean"``, ``"geodesic"`` or ``"precomputed"``.  ``"auto"``
+    picks ``"fast"`` for Euclidean distances, ``cutoff == 0``, at least
+    ``AUTO_FAST_VERTICES`` vertices, a mode grid that fits and FINUFFT installed;
+    ``"exact"`` otherwise.  An explicit ``"fast"`` that cannot run raises.
+    """
+    if method == "exact":
+        return "exact"
+    possible = kind == "euclidean" and cutoff == 0
+    if method == "auto":
+        large = len(points) >= AUTO_FAST_VERTICES
+        if possible and large and fits(points, bandwidth) and finufft_available():
+            return "fast"
+        return "exact"
+    if kind != "euclidean":
+        raise ValueError(
+            f'method="fast" needs Euclidean distances; {kind} distances use method="exact"'
+        )
+    if cutoff != 0:
+        raise ValueError(
+            f'method="fast" sums every kernel weight and cannot apply cutoff={cutoff}; '
+            'use cutoff=0 or method="exact"'
+        )
+    _require_finufft()
+    return "fast"

@@ -1,0 +1,49 @@
+"""Many meshes at once: finding the files, and computing them in parallel.
+
+``_inputs`` turns files, folders and glob patterns into a sorted list of mesh
+files; ``_runner`` computes them (one process, a local pool of workers, or a
+Dask cluster), one record per file, resumable, one bad file never stopping the
+batch.
+
+May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topography`,
+:mod:`dentopo.formats`.  Nothing from figures, study or cli.
+"""
+
+from ._inputs import MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
+from ._runner import (
+    Outcome,
+    Settings,
+    Task,
+    available_cores,
+    compute_batch,
+    compute_task,
+    error_reason,
+    error_record,
+    make_settings,
+    merge_records,
+    plan_batch,
+    resumable_files,
+    run_tasks,
+    to_dataframe,
+)
+
+__all__ = [
+    "MESH_EXTENSIONS",
+    "FoundInputs",
+    "Outcome",
+    "Settings",
+    "Task",
+    "available_cores",
+    "compute_batch",
+    "compute_task",
+    "error_reason",
+    "error_record",
+    "find_mesh_files",
+    "is_own_output",
+    "make_settings",
+    "merge_records",
+    "plan_batch",
+    "resumable_files",
+    "run_tasks",
+    "to_dataframe",
+]

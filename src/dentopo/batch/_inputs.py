@@ -1,0 +1,123 @@
+"""Finding mesh files: explicit files, directories (recursively) and glob patterns.
+
+Turns what a user types (``scans/``, ``"scans/**/*.ply"``, ``tooth.obj``) into
+a sorted list of mesh files, each once.  Directories are searched recursively
+for the mesh formats trimesh reads; hidden files and folders and this tool's
+own outputs are skipped there.  A file named explicitly is always kept (if it
+turns out not to be a mesh, its row in the batch says so).
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+from ..formats import OUTPUT_SUFFIX
+
+#: Mesh formats searched for in directories (when trimesh can read them).
+MESH_EXTENSIONS = ("ply", "obj", "stl", "off", "glb", "gltf", "3mf", "dae")
+
+_GLOB_CHARACTERS = frozenset("*?[")
+
+
+@dataclass
+class FoundInputs:
+    """The outcome of :func:`find_mesh_files`.
+
+    Attributes
+    ----------
+    files : list of str
+        Mesh files, sorted, each once (paths as the user wrote them, or joined
+        onto the directory the user gave).
+    unmatched : list of str
+        Patterns or directories that yielded no mesh file (for a message).
+    """
+
+    files: list[str] = field(default_factory=list)
+    unmatched: list[str] = field(default_factory=list)
+
+
+def mesh_extensions() -> tuple[str, ...]:
+    """Extensions (lower case, no dot) of the mesh formats searched for in directories."""
+    import trimesh
+
+    readable = set(trimesh.available_formats())
+    return tuple(ext for ext in MESH_EXTENSIONS if ext in readable)
+
+
+def is_own_output(path: str) -> bool:
+    """True for a per-vertex file written by this tool (``*.dentopo.ply`` / ``.csv``)."""
+    stem = os.path.splitext(os.path.basename(path))[0]
+    return stem.endswith(OUTPUT_SUFFIX)
+
+
+def _is_hidden(name: str) -> bool:
+    return name.startswith(".")
+
+
+def _search_directory(directory: str, extensions: tuple[str, ...]) -> list[str]:
+    found = []
+    for root, dirnames, filenames in os.walk(directory, followlinks=False):
+        dirnames[:] = sorted(d for d in dirnames if not _is_hidden(d))
+        for name in filenames:
+            ext = os.path.splitext(name)[1][1:].lower()
+            if _is_hidden(name) or ext not in extensions:
+                continue
+            path = os.path.join(root, name)
+            if not is_own_output(path):
+                found.append(path)
+    return found
+
+
+def _key(path: str) -> str:
+    """Identity of a file for de-duplication (symlinks and ``..`` resolved)."""
+    return os.path.normcase(os.path.realpath(path))
+
+
+def find_mesh_files(inputs: Iterable[str | os.PathLike]) -> FoundInputs:
+    """Expand files, directories and glob patterns into a sorted list of mesh files.
+
+    Parameters
+    ----------
+    inputs : iterable of str or path-like
+        Each is a file (kept whatever its extension), a directory (searched
+        recursively for the formats in :func:`mesh_extensions`, skipping
+        hidden entries and ``*.dentopo.*`` outputs) or, if no such path
+        exists, a shell-style glob pattern (``**`` matches nested folders).
+        A path that exists neither as a file nor as a pattern is kept as a
+        file, so that the batch reports it as not found.
+
+    Returns
+    -------
+    FoundInputs
+        ``files`` sorted and free of duplicates (the same file reached twice,
+        also through a symbolic link, is listed once), and ``unmatched``.
+    """
+    extensions = mesh_extensions()
+    candidates: list[str] = []
+    unmatched: list[str] = []
+    for item in inputs:
+        path = os.fspath(item)
+        if os.path.isdir(path):
+            files = _search_directory(path, extensions)
+            if not files:
+                unmatched.append(path)
+            candidates.extend(files)
+        elif os.path.lexists(path) or not (_GLOB_CHARACTERS & set(path)):
+            candidates.append(path)
+        else:
+            files = []
+            for match in sorted(glob.glob(path, recursive=True)):
+                if os.path.isdir(match):
+                    files.extend(_search_directory(match, extensions))
+                elif not _is_hidden(os.path.basename(match)) and not is_own_output(match):
+                    files.append(match)
+            if not files:
+                unmatched.append(path)
+            candidates.extend(files)
+    chosen: dict[str, str] = {}  # one spelling per file: the shortest ("a.ply", not "./a.ply")
+    for path in sorted(candidates, key=lambda p: (len(p), p)):
+        chosen.setdefault(_key(path), path)
+    return FoundInputs(files=sorted(chosen.values()), unmatched=unmatched)

@@ -1,0 +1,475 @@
+"""Batches: ariaDNE over many mesh files, in parallel, resumable, locally or on Dask.
+
+One bad file never stops a batch: its record says ``status="error"`` and gives
+the reason.  Files are processed in worker processes (``jobs``) or on an
+existing Dask distributed cluster (``scheduler``); the records always come back
+in the sorted order of the files and do not depend on how they were computed.
+
+When meshes run side by side (several processes, or a cluster) each uses one
+numba thread, so that the cores are not oversubscribed; a single process uses
+numba's default.  Records do not depend on either choice (tests/test_batch.py
+checks ``jobs=2`` against ``jobs=1`` bit for bit).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import threading
+import time
+import warnings
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass, fields, replace
+from functools import partial
+
+import numpy as np
+
+from ..ariadne import ariaDNE, check_distance_type, check_method, check_number
+from ..formats import COLUMNS, per_vertex_names, read_table, write_per_vertex
+from ..sign import check_sign_method
+from ._inputs import find_mesh_files
+
+#: ``progress(done, total, record)`` is called after each file.
+ProgressCallback = Callable[[int, int, dict], None]
+
+_MAX_REASON = 500
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What every mesh of a batch is computed with.
+
+    Every field but ``threads`` is an ``ariaDNE`` keyword and an output column:
+    a row is only reused by ``--resume`` if all of them match.
+    """
+
+    bandwidth: float = 0.08
+    cutoff: float = 0.0
+    distance_type: str = "euclidean"
+    sign_method: str = "centroid"
+    method: str = "auto"
+    threads: int | None = None  # numba threads per mesh; None: numba's default
+
+    def options(self) -> dict:
+        """The ``ariaDNE`` keyword arguments."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "threads"}
+
+
+@dataclass(frozen=True)
+class Task:
+    """One file of a batch: where to read it, what to call it, where its outputs go."""
+
+    index: int
+    file: str  # as shown in the table
+    path: str  # as opened (absolute for remote workers)
+    per_vertex_dir: str | None = None
+    per_vertex_name: str | None = None
+    keep_result: bool = False
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What computing one task produced (``result`` only if it was asked for)."""
+
+    index: int
+    record: dict
+    warnings: tuple[str, ...] = ()
+    result: object = None
+
+
+def available_cores() -> int:
+    """CPU cores this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def error_reason(exc: BaseException) -> str:
+    """A one-line reason for a failed file, for the ``error`` column."""
+    if isinstance(exc, FileNotFoundError):
+        reason = "file not found"
+    elif isinstance(exc, IsADirectoryError):
+        reason = "is a directory, not a mesh file"
+    elif isinstance(exc, PermissionError):
+        reason = f"unreadable: {exc.strerror or exc}"
+    elif isinstance(exc, OSError):
+        reason = f"unreadable: {exc}"
+    elif isinstance(exc, MemoryError):
+        reason = "out of memory"
+    elif isinstance(exc, (ValueError, TypeError)):
+        reason = str(exc)
+    else:
+        reason = f"{type(exc).__name__}: {exc}"
+    reason = " ".join(reason.split()) or type(exc).__name__
+    return reason if len(reason) <= _MAX_REASON else reason[: _MAX_REASON - 3] + "..."
+
+
+def error_record(file: str, reason: str, seconds: float | None = None) -> dict:
+    """A table row for a file that failed: numbers empty, ``status="error"``."""
+    record = dict.fromkeys(COLUMNS)
+    record.update(file=file, seconds=seconds, status="error", error=reason)
+    return record
+
+
+#: ``on_phase(file, phase)`` is called as each phase of one mesh starts (see ``ariaDNE``).
+PhaseCallback = Callable[[str, str], None]
+
+
+def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None = None) -> Outcome:
+    """Compute one file; never raises for a bad file (the record says what went wrong)."""
+    import numba
+
+    previous_threads = numba.get_num_threads()
+    if settings.threads is not None:  # per calling thread: safe in threaded workers
+        numba.set_num_threads(min(settings.threads, numba.config.NUMBA_NUM_THREADS))
+    start = time.perf_counter()
+    result = None
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                phases = None if on_phase is None else partial(on_phase, task.file)
+                result = ariaDNE(task.path, progress=phases, **settings.options())
+                if task.per_vertex_dir is not None:
+                    write_per_vertex(task.per_vertex_dir, task.per_vertex_name, result)
+            except Exception as exc:  # one bad file never stops the batch
+                seconds = round(time.perf_counter() - start, 4)
+                if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
+                    reason = "unreadable: a broken symbolic link"
+                else:
+                    reason = error_reason(exc)
+                record = error_record(task.file, reason, seconds)
+                result = None
+            else:
+                seconds = round(time.perf_counter() - start, 4)
+                record = {"file": task.file, **result.to_dict()}
+                record.update(seconds=seconds, status="ok", error=None)
+    finally:
+        numba.set_num_threads(previous_threads)
+    messages = tuple(dict.fromkeys(str(w.message) for w in caught))
+    return Outcome(task.index, record, messages, result if task.keep_result else None)
+
+
+def _ignore_interrupts() -> None:
+    """Worker initialiser: Ctrl-C is handled by the parent, which stops the workers."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def _interrupts_ignored():
+    """Ignore SIGINT in this process for a moment (processes started meanwhile inherit it)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _run_local(
+    tasks: Sequence[Task], settings: Settings, jobs: int, on_phase: PhaseCallback | None = None
+) -> Iterator[Outcome]:
+    if jobs <= 1 or len(tasks) <= 1:
+        for task in tasks:
+            yield compute_task(task, settings, on_phase)
+        return
+
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    # spawn, not fork: numba's OpenMP threading layer is not fork-safe
+    pool = ProcessPoolExecutor(
+        max_workers=min(jobs, len(tasks)),
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_ignore_interrupts,
+    )
+    if settings.threads is None:  # share the cores among the workers
+        settings = replace(settings, threads=max(1, available_cores() // min(jobs, len(tasks))))
+    with _interrupts_ignored():  # workers start with Ctrl-C ignored, even while importing
+        futures = {pool.submit(compute_task, task, settings): task for task in tasks}
+    finished = False
+    try:
+        for future in as_completed(futures):
+            try:
+                yield future.result()
+            except BrokenProcessPool as exc:  # a worker crashed, or could not start
+                task = futures[future]
+                reason = f"worker process failed ({exc}); rerun with --resume to retry"
+                yield Outcome(task.index, error_record(task.file, " ".join(reason.split())))
+        finished = True
+    finally:
+        if not finished:  # Ctrl-C, or the consumer stopped early: stop the workers now
+            processes = list((getattr(pool, "_processes", None) or {}).values())
+            pool.shutdown(wait=False, cancel_futures=True)
+            for process in processes:  # a running mesh may take long: do not wait for it
+                if process.is_alive():
+                    process.terminate()
+        pool.shutdown(wait=True)
+
+
+def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[Outcome]:
+    try:
+        from distributed import Client, as_completed
+    except ImportError as exc:
+        raise ImportError(
+            "running on a Dask cluster needs dask.distributed: pip install 'dentopo[cluster]'"
+        ) from exc
+
+    if settings.threads is None:  # a worker runs one task per thread
+        settings = replace(settings, threads=1)
+    own_client = not isinstance(scheduler, Client)
+    client = Client(scheduler, set_as_default=False) if own_client else scheduler
+    futures = {}
+    try:
+        submitted = client.map(compute_task, list(tasks), [settings] * len(tasks), pure=False)
+        futures = dict(zip(submitted, tasks, strict=True))  # one message for the whole batch
+        for future in as_completed(list(futures), loop=client.loop):
+            try:
+                yield future.result()
+            except Exception as exc:  # the task itself never raises: this is the cluster
+                task = futures[future]
+                yield Outcome(task.index, error_record(task.file, error_reason(exc)))
+    finally:
+        client.cancel(list(futures))
+        if own_client:
+            client.close()
+
+
+def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
+    """Files (as absolute paths) with an ``ok`` row computed with these settings.
+
+    With ``method="auto"`` a row computed by either method counts (auto may
+    pick either); otherwise the recorded method must match.
+    """
+    done = set()
+    wanted = settings.options()
+    if wanted["method"] == "auto":
+        del wanted["method"]
+    for record in previous:
+        same = record.get("status") == "ok" and all(
+            record.get(name) == value for name, value in wanted.items()
+        )
+        if same and record.get("file"):
+            done.add(os.path.abspath(record["file"]))
+    return done
+
+
+def merge_records(previous: Iterable[dict], new: Iterable[dict]) -> list[dict]:
+    """Previous rows overridden by new rows for the same file, sorted by file."""
+    merged = {os.path.abspath(r["file"]): r for r in previous if r.get("file")}
+    merged.update({os.path.abspath(r["file"]): r for r in new})
+    return sorted(merged.values(), key=lambda r: r["file"])
+
+
+def plan_batch(
+    files: Sequence[str],
+    settings: Settings,
+    *,
+    per_vertex_dir: str | os.PathLike | None = None,
+    keep_results: bool = False,
+    absolute: bool = False,
+) -> list[Task]:
+    """Tasks for `files` (in order): display names, paths to open, output names."""
+    names = per_vertex_names(files)
+    directory = None if per_vertex_dir is None else os.path.abspath(os.fspath(per_vertex_dir))
+    return [
+        Task(
+            index=i,
+            file=file,
+            path=os.path.abspath(file) if absolute else file,
+            per_vertex_dir=directory,
+            per_vertex_name=name,
+            keep_result=keep_results,
+        )
+        for i, (file, name) in enumerate(zip(files, names, strict=True))
+    ]
+
+
+def run_tasks(
+    tasks: Sequence[Task],
+    settings: Settings,
+    *,
+    jobs: int = 1,
+    scheduler=None,
+    on_phase: PhaseCallback | None = None,
+) -> Iterator[Outcome]:
+    """Compute `tasks`, yielding each outcome as it completes (in any order).
+
+    ``on_phase`` reports the phases within each mesh; it is only called when
+    the meshes run one at a time in this process (``jobs=1``, no scheduler).
+    Closing the iterator early (or Ctrl-C while iterating) stops the workers.
+    """
+    if scheduler is not None:
+        return _run_dask(tasks, settings, scheduler)
+    return _run_local(tasks, settings, jobs, on_phase)
+
+
+def make_settings(
+    *,
+    bandwidth: float = 0.08,
+    cutoff: float = 0.0,
+    distance_type: str = "euclidean",
+    sign_method: str = "centroid",
+    method: str = "auto",
+    threads: int | None = None,
+) -> Settings:
+    """Validated batch settings (the same checks as ``ariaDNE``, made once up front).
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the offending option.
+    """
+    bandwidth = check_number(
+        "bandwidth", bandwidth, low=0, high=np.inf, low_open=True, high_open=True
+    )
+    cutoff = check_number("cutoff", cutoff, low=0, high=1, low_open=False, high_open=True)
+    if threads is not None and (
+        isinstance(threads, bool) or not isinstance(threads, int) or threads < 1
+    ):
+        raise ValueError(f"threads must be a positive integer or None; got {threads!r}")
+    return Settings(
+        bandwidth=bandwidth,
+        cutoff=cutoff,
+        distance_type=check_distance_type(distance_type),
+        sign_method=check_sign_method(sign_method),
+        method=check_method(method),
+        threads=threads,
+    )
+
+
+def _check_jobs(jobs) -> int:
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 0:
+        raise ValueError(f"jobs must be a non-negative integer (0: all cores); got {jobs!r}")
+    return jobs or available_cores()
+
+
+def compute_batch(
+    paths: str | os.PathLike | Iterable[str | os.PathLike],
+    *,
+    bandwidth: float = 0.08,
+    cutoff: float = 0.0,
+    distance_type: str = "euclidean",
+    sign_method: str = "centroid",
+    method: str = "auto",
+    jobs: int = 1,
+    threads: int | None = None,
+    scheduler=None,
+    resume_from: str | os.PathLike | Iterable[dict] | None = None,
+    per_vertex_dir: str | os.PathLike | None = None,
+    progress: ProgressCallback | None = None,
+) -> list[dict]:
+    """Compute ariaDNE for many mesh files; one record (a table row) per file.
+
+    Parameters
+    ----------
+    paths : path-like or iterable of path-like
+        Mesh files, directories (searched recursively for the formats trimesh
+        reads; hidden entries skipped) and shell-style glob patterns.  A file
+        reached twice is computed once.
+    bandwidth, cutoff, distance_type, sign_method, method
+        As for :func:`dentopo.ariaDNE`.
+    jobs : int, default 1
+        Worker processes; 0 uses every core.  Results do not depend on it.
+    threads : int, optional
+        numba threads per mesh.  By default numba's own choice when one mesh
+        runs at a time, and the cores shared out when several do.
+    scheduler : str or distributed.Client, optional
+        Address of a Dask distributed scheduler (``"tcp://host:8786"``) or a
+        client: run on that cluster instead of local processes (``jobs`` is
+        then ignored).  The files must be readable by the workers under the
+        same absolute paths (a shared file system).
+    resume_from : path-like or iterable of dict, optional
+        A previous output table (or its records): files with an ``ok`` row
+        computed with the same settings (bandwidth, cutoff, distance type,
+        sign method, and method unless it is ``"auto"``) are not
+        computed again, and the previous rows are kept in the result.
+    per_vertex_dir : path-like, optional
+        Existing directory for each mesh's ``<name>.dentopo.ply`` and
+        ``<name>.dentopo.csv`` (see :func:`dentopo._output.write_per_vertex`).
+    progress : callable, optional
+        ``progress(done, total, record)``, called after each file.
+
+    Returns
+    -------
+    list of dict
+        One record per file, sorted by file, with the keys of
+        :data:`dentopo.COLUMNS`: ``file``, the scalar fields of
+        :class:`dentopo.AriaDNEResult`, ``seconds``, ``status`` (``"ok"`` or
+        ``"error"``) and ``error`` (the reason, or None).  Numbers are None
+        in failed rows.
+
+    Raises
+    ------
+    ValueError
+        If no mesh file is found, or an option is invalid.
+
+    Warns
+    -----
+    UserWarning
+        For each file whose computation warned, prefixed with the file name.
+
+    Examples
+    --------
+    >>> from dentopo import compute_batch, to_dataframe
+    >>> records = compute_batch("scans/", jobs=0)  # doctest: +SKIP
+    >>> to_dataframe(records).set_index("file")["dne"]  # doctest: +SKIP
+    """
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    found = find_mesh_files(paths)
+    if not found.files:
+        raise ValueError(
+            "no mesh files found" + (f" in {found.unmatched}" if found.unmatched else "")
+        )
+    jobs = _check_jobs(jobs)
+    settings = make_settings(
+        bandwidth=bandwidth,
+        cutoff=cutoff,
+        distance_type=distance_type,
+        sign_method=sign_method,
+        method=method,
+        threads=threads,
+    )
+    if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
+        raise ValueError(f"per_vertex_dir {os.fspath(per_vertex_dir)!r} is not a directory")
+    previous: list[dict] = []
+    if resume_from is not None:
+        if isinstance(resume_from, (str, os.PathLike)):
+            previous = read_table(resume_from) if os.path.exists(resume_from) else []
+        else:
+            previous = [dict(r) for r in resume_from]
+    done = resumable_files(previous, settings)
+    todo = [f for f in found.files if os.path.abspath(f) not in done]
+
+    tasks = plan_batch(
+        todo, settings, per_vertex_dir=per_vertex_dir, absolute=scheduler is not None
+    )
+    records: list[dict | None] = [None] * len(tasks)
+    for count, outcome in enumerate(run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler)):
+        records[outcome.index] = outcome.record
+        for message in outcome.warnings:
+            warnings.warn(f"{outcome.record['file']}: {message}", UserWarning, stacklevel=2)
+        if progress is not None:
+            progress(count + 1, len(tasks), outcome.record)
+    return merge_records(previous, records)
+
+
+def to_dataframe(records: Iterable[dict]):
+    """The records of :func:`compute_batch` as a pandas DataFrame (columns in order).
+
+    Raises
+    ------
+    ImportError
+        If pandas is not installed (``pip install 'dentopo[table]'``).
+    """
+    try:
+        import pandas as pd
+    except ImportError as exc:
+        raise ImportError("to_dataframe needs pandas: pip install 'dentopo[table]'") from exc
+    return pd.DataFrame(list(records), columns=list(COLUMNS))

@@ -1,0 +1,12 @@
+"""The ``dentopo`` command (also ``python -m dentopo``): a thin shell over the public API.
+
+``_main`` dispatches to a subcommand or the main command; ``_compute`` is the
+main command (a table with one row per mesh); ``_study`` the ``robustness`` and
+``sweep`` subcommands.  Only this subpackage prints or exits.
+
+May import: every other subpackage of dentopo; nothing imports it.
+"""
+
+from ._main import SUBCOMMANDS, main, run
+
+__all__ = ["SUBCOMMANDS", "main", "run"]

@@ -1,0 +1,479 @@
+"""The main command, ``dentopo PATH...``: compute a table with one row per mesh.
+
+Finds the mesh files, computes them as a batch (:mod:`dentopo.batch`), writes
+the table (:mod:`dentopo.formats`) and, if asked, draws the curvature
+(:mod:`dentopo.figures`, whose pyvista is imported only then).  Only the CLI
+prints: results to stdout or files, messages and progress to stderr.
+
+Exit codes: 0 all files ok; 1 some file failed (or the display is unavailable);
+2 usage error (including "no mesh files found"); 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import shutil
+import sys
+import time
+
+from .._version import __version__
+from ..ariadne import METHODS
+from ..batch import (
+    Outcome,
+    available_cores,
+    find_mesh_files,
+    make_settings,
+    merge_records,
+    plan_batch,
+    resumable_files,
+    run_tasks,
+)
+from ..formats import output_format, read_table, write_table
+from ..samples import sample_paths
+from ..sign import SIGN_METHODS
+
+PROG = "dentopo"
+
+#: Environment variable naming a Dask scheduler, used when --scheduler is not given.
+SCHEDULER_ENV = "DENTOPO_SCHEDULER"
+
+#: In plain-line progress, phases within a mesh are reported once it has taken this long.
+SLOW_MESH_SECONDS = 2.0
+
+#: Columns of the table printed on stdout when no --output is given.
+TABLE_COLUMNS = (
+    "file",
+    "dne",
+    "positive_dne",
+    "negative_dne",
+    "surface_area",
+    "vertices",
+    "faces",
+    "seconds",
+    "status",
+    "error",
+)
+
+EXAMPLES = """\
+examples:
+  dentopo path/to/mesh1.obj path/to/mesh2.ply -o DNEs.csv
+  dentopo path/to/mesh/directory -b 0.1
+  dentopo path/to/mesh.ply -v
+  dentopo "scans/**/*.ply" -j 0 -o results.json --resume
+  dentopo scans/ --per-vertex per_vertex/ -o results.csv
+  dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
+
+inputs are files, directories (searched recursively for ply, obj, stl, off, glb,
+gltf; hidden files and *.dentopo.* outputs skipped) and quoted glob patterns.
+A file named like a subcommand is given as ./NAME.
+
+columns (also in the API and the files): file, dne, positive_dne,
+negative_dne, surface_area, positive_surface_area, negative_surface_area,
+vertices, faces, bandwidth, cutoff, distance_type, sign_method, method,
+seconds, status, error
+
+exit codes: 0 all files ok, 1 some file failed, 2 usage error (also: no mesh
+files found), 130 interrupted (rows already done are kept).
+"""
+
+
+def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
+    """The argument parser of the main command (`subcommands`: names listed in its help)."""
+    description = (
+        "Compute ariaDNE and its sign-oriented (convex/concave) split for triangle meshes:\n"
+        "one row per mesh."
+    )
+    if subcommands:
+        names = ", ".join(sorted(subcommands))
+        description += f"\n\nsubcommands: {names} (dentopo NAME --help)"
+    parser = argparse.ArgumentParser(
+        prog=PROG,
+        description=description,
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("paths", nargs="*", metavar="PATH", help="mesh files, directories, globs")
+    parser.add_argument("--samples", action="store_true", help="add the bundled sample meshes")
+    compute = parser.add_argument_group("computation")
+    compute.add_argument(
+        "-b", "--bandwidth", type=float, default=0.08, help="kernel bandwidth (default 0.08)"
+    )
+    compute.add_argument(
+        "-c", "--cutoff", type=float, default=0.0, help="kernel weight cutoff (default 0)"
+    )
+    compute.add_argument(
+        "-d",
+        "--distance-type",
+        type=str.lower,
+        choices=("euclidean", "geodesic"),
+        default="euclidean",
+        help="distance between vertices (default euclidean)",
+    )
+    compute.add_argument(
+        "--sign-method",
+        type=str.lower,
+        choices=SIGN_METHODS,
+        default="centroid",
+        help="how the sign is decided (default centroid, the paper's method)",
+    )
+    compute.add_argument(
+        "--method",
+        type=str.lower,
+        choices=METHODS,
+        default="auto",
+        help="kernel sums: exact, fast (FFT-based, for large meshes) or auto (default: "
+        "fast from 20,000 vertices)",
+    )
+    run = parser.add_argument_group("running")
+    run.add_argument(
+        "-j", "--jobs", type=int, default=1, metavar="N", help="worker processes (0: all cores)"
+    )
+    run.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        default=None,
+        help=f"run on this Dask scheduler (default: ${SCHEDULER_ENV} if set)",
+    )
+    run.add_argument("-q", "--quiet", action="store_true", help="no progress, only problems")
+    run.add_argument("--version", action="version", version=f"{PROG} {__version__}")
+    out = parser.add_argument_group("output")
+    out.add_argument(
+        "-o", "--output", metavar="FILE", help="write the table to FILE (.csv or .json)"
+    )
+    out.add_argument(
+        "--resume",
+        action="store_true",
+        help="keep the ok rows of the existing --output and compute only the rest",
+    )
+    out.add_argument(
+        "--per-vertex",
+        metavar="DIR",
+        help="write NAME.dentopo.ply (values as vertex properties and colours) and "
+        "NAME.dentopo.csv per mesh into DIR",
+    )
+    view = parser.add_argument_group("visualisation")
+    view.add_argument(
+        "-v", "--visualize", action="store_true", help="show the mesh in a window (one input)"
+    )
+    view.add_argument("--screenshot", metavar="PNG", help="save a picture, off-screen (one input)")
+    view.add_argument("--html", metavar="FILE", help="save an interactive HTML view (one input)")
+    view.add_argument(
+        "--panel", metavar="FILE", help="all inputs side by side on one colour scale (.png, .html)"
+    )
+    view.add_argument(
+        "--color-by",
+        choices=("local_curvature", "local_dne"),
+        default="local_curvature",
+        help="field to colour by (default local_curvature)",
+    )
+    view.add_argument("--view", default="iso", help="camera direction (default iso)")
+    view.add_argument(
+        "--window-size", nargs=2, type=int, metavar=("W", "H"), help="picture size in pixels"
+    )
+    view.add_argument(
+        "--limits", nargs=2, type=float, metavar=("LO", "HI"), help="fixed colour limits"
+    )
+    view.add_argument(
+        "--percentile",
+        type=float,
+        default=98.0,
+        help="colour limits at this percentile of |value| (default 98)",
+    )
+    return parser
+
+
+def _say(message: str) -> None:
+    print(f"{PROG}: {message}", file=sys.stderr, flush=True)
+
+
+class _Progress:
+    """Progress on stderr: a bar on a terminal, plain lines otherwise, problems always."""
+
+    def __init__(self, total: int, *, quiet: bool):
+        self.total = total
+        self.quiet = quiet
+        self.tty = sys.stderr.isatty() and not quiet
+        self.start = time.perf_counter()
+        self.done = 0
+        self.mesh_start = self.start
+        if self.tty and total:
+            self._bar("")  # at once: the first mesh may take a while
+
+    def _clear(self) -> None:
+        if self.tty:
+            print("\r\033[K", end="", file=sys.stderr)
+
+    def message(self, text: str) -> None:
+        self._clear()
+        _say(text)
+
+    def update(self, record: dict) -> None:
+        self.done += 1
+        ok = record["status"] == "ok"
+        seconds = record["seconds"]
+        timing = "" if seconds is None else f" ({seconds:.2f} s)"
+        if not ok:
+            self.message(f"{record['file']}: error: {record['error']}")
+        elif self.tty:
+            self._bar(f"{os.path.basename(record['file'])}{timing}")
+        elif not self.quiet:
+            _say(f"[{self.done}/{self.total}] {record['file']}: ok{timing}")
+
+    def phase(self, file: str, name: str) -> None:
+        """A phase of one mesh starts: shown on the bar, or as a line once a mesh is slow."""
+        now = time.perf_counter()
+        if name == "prepare":
+            self.mesh_start = now
+        elapsed = now - self.mesh_start
+        if self.tty:
+            self._bar(f"{os.path.basename(file)}: {name} ({elapsed:.1f} s)")
+        elif not self.quiet and elapsed >= SLOW_MESH_SECONDS:
+            _say(f"{file}: {name} ({elapsed:.1f} s)")
+
+    def _bar(self, last: str) -> None:
+        width = shutil.get_terminal_size((80, 20)).columns
+        elapsed = time.perf_counter() - self.start
+        rate = self.done / elapsed if elapsed > 0 else 0.0
+        filled = int(20 * self.done / max(self.total, 1))
+        text = (
+            f"[{'#' * filled}{'.' * (20 - filled)}] {self.done}/{self.total} {rate:.1f}/s  {last}"
+        )
+        print("\r\033[K" + text[: width - 1], end="", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.tty and self.done:
+            print(file=sys.stderr, flush=True)
+
+
+def _format(value) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return str(value)
+
+
+def print_table(records: list[dict]) -> None:
+    """A readable, aligned table of the main columns on stdout."""
+    cells = [list(TABLE_COLUMNS)] + [[_format(r.get(c)) for c in TABLE_COLUMNS] for r in records]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(TABLE_COLUMNS))]
+    for row in cells:
+        line = "  ".join(
+            cell.ljust(w) if i == 0 or i >= len(row) - 2 else cell.rjust(w)
+            for i, (cell, w) in enumerate(zip(row, widths, strict=True))
+        )
+        print(line.rstrip())
+
+
+def _rendering_requested(args) -> bool:
+    return bool(args.visualize or args.screenshot or args.html or args.panel)
+
+
+def _check_usage(args) -> str | None:
+    """A usage problem with the options (before any file is read), or None."""
+    if args.jobs < 0:
+        return "--jobs must be 0 (all cores) or more"
+    if args.output is not None:
+        try:
+            output_format(args.output)
+        except ValueError as exc:
+            return str(exc)
+        directory = os.path.dirname(os.path.abspath(args.output))
+        if not os.path.isdir(directory):
+            return f"the output's directory {directory!r} does not exist (create it first)"
+        if os.path.isdir(args.output):
+            return f"--output {args.output!r} is a directory; give a .csv or .json file"
+    if args.resume and args.output is None:
+        return "--resume needs --output (the table to resume)"
+    if args.per_vertex is not None and os.path.exists(args.per_vertex):
+        if not os.path.isdir(args.per_vertex):
+            return f"--per-vertex {args.per_vertex!r} exists and is not a directory"
+    if args.panel is not None and os.path.splitext(args.panel)[1].lower() not in (".png", ".html"):
+        return "--panel must end in .png or .html"
+    if args.screenshot is not None and not args.screenshot.lower().endswith(".png"):
+        return "--screenshot must end in .png"
+    return None
+
+
+def _load_renderer():
+    """The rendering module, or None with a message when it is unavailable."""
+    try:
+        return importlib.import_module("dentopo.figures._render")
+    except ImportError as exc:
+        if exc.name == "dentopo.figures._render":
+            _say("visualisation is not available yet in this version of dentopo")
+        else:
+            _say(f"visualisation is not installed ({exc}): pip install 'dentopo[viz]'")
+        return None
+
+
+def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int:
+    """Draw what was asked for; an exit code (0, 1 display unavailable, 2 bad option)."""
+    ok = [(files[i], o.result) for i, o in sorted(outcomes.items()) if o.result is not None]
+    if not ok:
+        _say("nothing to draw: no mesh was computed")
+        return 1
+    options = {
+        "field": args.color_by,
+        "limits": tuple(args.limits) if args.limits else None,
+        "percentile": args.percentile,
+        "view": args.view,
+    }
+    size = {"window_size": tuple(args.window_size)} if args.window_size else {}
+    try:
+        if args.panel:
+            ext = os.path.splitext(args.panel)[1].lower()
+            render.render_panel(
+                [(result.mesh, result) for _, result in ok],
+                labels=[os.path.basename(file) for file, _ in ok],
+                screenshot=args.panel if ext == ".png" else None,
+                html=args.panel if ext == ".html" else None,
+                **options,
+                **size,
+            )
+        if args.visualize or args.screenshot or args.html:
+            file, result = ok[0]
+            render.render_curvature(
+                result.mesh,
+                result,
+                title=os.path.basename(file),
+                screenshot=args.screenshot,
+                html=args.html,
+                interactive=args.visualize,
+                **options,
+                **size,
+            )
+    except render.DisplayUnavailableError as exc:
+        _say(f"cannot draw: {exc}")
+        return 1
+    except (ValueError, TypeError) as exc:
+        _say(f"cannot draw: {exc}")
+        return 2
+    return 0
+
+
+def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
+    """Run the main command with `argv`; the exit code."""
+    try:
+        args = build_parser(subcommands).parse_args(argv)
+    except SystemExit as stop:  # --help, --version, or a usage error (2)
+        return stop.code if isinstance(stop.code, int) else 0
+
+    problem = _check_usage(args)
+    if problem:
+        _say(problem)
+        return 2
+    try:
+        settings = make_settings(
+            bandwidth=args.bandwidth,
+            cutoff=args.cutoff,
+            distance_type=args.distance_type,
+            sign_method=args.sign_method,
+            method=args.method,
+        )
+    except (TypeError, ValueError) as exc:
+        _say(str(exc))
+        return 2
+
+    paths = list(args.paths)
+    if args.samples:
+        paths += [str(path) for path in sample_paths().values()]
+    if not paths:
+        _say("no mesh files given (try --help, or --samples)")
+        return 2
+    found = find_mesh_files(paths)
+    for pattern in found.unmatched:
+        _say(f"no mesh files in {pattern!r}")
+    if not found.files:
+        _say("no mesh files found")
+        return 2
+    files = found.files
+
+    rendering = _rendering_requested(args)
+    single = args.visualize or args.screenshot or args.html
+    if single and len(files) != 1:
+        _say(f"-v, --screenshot and --html draw one mesh; {len(files)} were given (see --panel)")
+        return 2
+    render = _load_renderer() if rendering else None
+    if rendering and render is None:
+        return 2
+
+    previous: list[dict] = []
+    if args.resume:
+        if os.path.exists(args.output):
+            try:
+                previous = read_table(args.output)
+            except (OSError, ValueError) as exc:
+                _say(f"cannot resume from {args.output!r}: {exc}")
+                return 2
+        elif not args.quiet:
+            _say(f"{args.output!r} does not exist yet: computing every file")
+    done = set() if rendering else resumable_files(previous, settings)  # drawing needs results
+    todo = [f for f in files if os.path.abspath(f) not in done]
+    if args.resume and not args.quiet:
+        _say(f"resuming: {len(files) - len(todo)} of {len(files)} files already done")
+
+    if args.per_vertex is not None:
+        os.makedirs(args.per_vertex, exist_ok=True)
+    scheduler = args.scheduler or os.environ.get(SCHEDULER_ENV) or None
+    jobs = args.jobs or available_cores()
+    tasks = plan_batch(
+        todo,
+        settings,
+        per_vertex_dir=args.per_vertex,
+        keep_results=rendering,
+        absolute=scheduler is not None,
+    )
+
+    progress = _Progress(len(tasks), quiet=args.quiet)
+    outcomes: dict[int, Outcome] = {}
+    interrupted = False
+    running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
+    try:
+        for outcome in running:
+            outcomes[outcome.index] = outcome
+            for message in outcome.warnings:
+                progress.message(f"{outcome.record['file']}: warning: {message}")
+            progress.update(outcome.record)
+    except KeyboardInterrupt:
+        interrupted = True
+    except (ImportError, OSError) as exc:  # no dask, or the scheduler cannot be reached
+        progress.close()
+        _say(f"cannot run on scheduler {scheduler!r}: {exc}" if scheduler else str(exc))
+        return 2
+    finally:
+        running.close()  # stops the workers, also on Ctrl-C
+    progress.close()
+
+    new = [outcomes[i].record for i in sorted(outcomes)]
+    if interrupted:
+        _say(f"interrupted: {len(new)} of {len(tasks)} files done; rerun with --resume to finish")
+        if args.output is not None and os.path.exists(args.output) and not previous:
+            try:  # keep the old rows of the files not reached, so that nothing is lost
+                previous = read_table(args.output)
+            except (OSError, ValueError):
+                previous = []
+    records = merge_records(previous, new)
+    mine = {os.path.abspath(f) for f in files}
+    failed = sum(r["status"] != "ok" for r in records if os.path.abspath(r["file"]) in mine)
+
+    if args.output is not None:
+        try:
+            write_table(args.output, records)
+        except OSError as exc:
+            _say(f"cannot write {args.output!r}: {exc}")
+            return 1
+        if not args.quiet:
+            _say(f"wrote {len(records)} rows to {args.output} ({failed} failed)")
+    else:
+        print_table(records)
+    if interrupted:
+        return 130
+
+    code = 1 if failed else 0
+    if rendering:
+        drawn = _render(render, args, todo, outcomes)
+        code = max(code, drawn)
+    return code

@@ -1,0 +1,48 @@
+"""The ``dentopo`` command's entry point: dispatch to a subcommand or the main command.
+
+``dentopo NAME ARGS...`` runs the subcommand ``NAME`` (only the first argument is
+matched, exactly: a mesh file called like a subcommand is given as ``./NAME``);
+anything else is the main command (:mod:`dentopo.cli._compute`).
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from collections.abc import Callable
+
+from ._compute import compute_main
+
+# ``dentopo NAME ARGS...`` runs ``SUBCOMMANDS[NAME](ARGS)`` and exits with the integer it
+# returns.  A value is a callable ``f(argv: list[str]) -> int`` or, better, a lazy
+# ``"module:function"`` string, imported only when that subcommand runs (so that the plain
+# command stays fast).
+SUBCOMMANDS: dict[str, str | Callable[[list[str]], int]] = {
+    "robustness": "dentopo.cli._study:robustness_main",
+    "sweep": "dentopo.cli._study:sweep_main",
+}
+
+
+def _run_subcommand(name: str, argv: list[str]) -> int:
+    target = SUBCOMMANDS[name]
+    if isinstance(target, str):
+        module, _, function = target.partition(":")
+        target = getattr(importlib.import_module(module), function)
+    return int(target(argv))
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the ``dentopo`` command with `argv` (default ``sys.argv[1:]``); the exit code."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] in SUBCOMMANDS:
+        return _run_subcommand(argv[0], argv[1:])
+    return compute_main(argv, tuple(SUBCOMMANDS))
+
+
+def run() -> None:
+    """Console-script entry point."""
+    try:
+        code = main()
+    except BrokenPipeError:  # e.g. ``dentopo scans/ | head``
+        code = 0
+    sys.exit(code)

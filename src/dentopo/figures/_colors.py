@@ -1,0 +1,199 @@
+"""Colour scale for signed fields: a diverging map centred exactly at zero.
+
+Signed curvature is shown red where positive (convex: cusps, ridges), blue
+where negative (concave: valleys, basins) and a light neutral grey at zero,
+with intensity growing with magnitude.  Limits are always symmetric about zero,
+so that the neutral colour means zero and nothing else:
+
+* by default ``±L`` with ``L`` a high percentile (98 by default) of ``|value|``,
+  so that a few extreme vertices (one sharp tip) do not wash out the picture;
+  values beyond ``L`` are drawn in the end colours;
+* or limits fixed by the caller, so that several specimens share one scale.
+
+numpy only; the renderers (pyvista, the HTML viewer) use these colours.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from numbers import Real
+
+import numpy as np
+
+#: The colour of zero (light grey, so that shading stays visible).
+NEUTRAL = (0.866, 0.866, 0.866)
+
+#: Control points of the map, position in [-1, 1] -> RGB in [0, 1].  The ends
+#: and the middle follow Moreland's "cool to warm" map (doi:10.1007/978-3-642-10520-3_9).
+_STOPS = np.array([-1.0, -0.5, 0.0, 0.5, 1.0])
+_STOP_RGB = np.array(
+    [
+        [0.230, 0.299, 0.754],  # deep blue: most concave
+        [0.552, 0.690, 0.996],
+        NEUTRAL,
+        [0.957, 0.604, 0.482],
+        [0.706, 0.016, 0.150],  # deep red: most convex
+    ]
+)
+
+DEFAULT_PERCENTILE = 98.0
+
+
+def diverging_rgb(t) -> np.ndarray:
+    """Colours of positions on the diverging map.
+
+    Parameters
+    ----------
+    t : array_like of float
+        Positions; -1 is the blue end, 0 the neutral grey, +1 the red end.
+        Values beyond [-1, 1] are clipped; NaN is drawn neutral.
+
+    Returns
+    -------
+    (..., 3) float
+        RGB in [0, 1].  ``diverging_rgb(0)`` is exactly ``NEUTRAL``.
+
+    Examples
+    --------
+    >>> from dentopo import diverging_rgb
+    >>> diverging_rgb([-1.0, 0.0, 1.0]).round(3).tolist()
+    [[0.23, 0.299, 0.754], [0.866, 0.866, 0.866], [0.706, 0.016, 0.15]]
+    """
+    t = np.clip(np.nan_to_num(np.asarray(t, dtype=np.float64), nan=0.0), -1.0, 1.0)
+    return np.stack([np.interp(t, _STOPS, _STOP_RGB[:, c]) for c in range(3)], axis=-1)
+
+
+@dataclass(frozen=True)
+class ColorScale:
+    """Symmetric limits ``(-limit, +limit)`` of a signed colour scale.
+
+    Attributes
+    ----------
+    limit : float
+        Values at or beyond ``±limit`` get the end colours; positive.
+    rule : str
+        How the limit was chosen, for the colour bar, e.g.
+        ``"±0.0123 (98th percentile of the magnitude)"`` or ``"±0.05 (fixed)"``.
+    """
+
+    limit: float
+    rule: str
+
+    @property
+    def limits(self) -> tuple[float, float]:
+        """The limits as a ``(low, high)`` pair, ``low == -high``."""
+        return (-self.limit, self.limit)
+
+    def normalize(self, values) -> np.ndarray:
+        """Map values to positions on the map: ``values / limit``, clipped to [-1, 1]."""
+        return np.clip(np.asarray(values, dtype=np.float64) / self.limit, -1.0, 1.0)
+
+    def rgb(self, values) -> np.ndarray:
+        """(n, 3) uint8 colours of ``values`` on this scale."""
+        return np.round(255 * diverging_rgb(self.normalize(values))).astype(np.uint8)
+
+
+def _ordinal(p: float) -> str:
+    text = f"{p:g}"
+    if not float(p).is_integer():
+        return f"{text}th"
+    n = int(p)
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{text}{suffix}"
+
+
+def color_scale(values=None, *, limits=None, percentile: float = DEFAULT_PERCENTILE) -> ColorScale:
+    """Choose symmetric limits for a signed field.
+
+    Parameters
+    ----------
+    values : array_like of float, or a sequence of them, optional
+        The field(s) to be drawn; several arrays (one per specimen) are pooled,
+        so that a panel shares one scale.  Not needed when `limits` is given.
+    limits : float or (float, float), optional
+        Fixed limits: ``L`` for ``(-L, L)``, or a pair ``(-L, L)``.  They must
+        be symmetric about zero (the neutral colour means zero).  Use the same
+        limits for several specimens to compare them on one scale.
+    percentile : float, default 98.0
+        When `limits` is None, ``L`` is this percentile of ``|value|`` over the
+        finite values, in (0, 100].  100 gives the largest magnitude.
+
+    Returns
+    -------
+    ColorScale
+        The limit and a description of the rule, for the colour bar.  A field
+        that is zero everywhere gets ``L = 1`` so that it is drawn neutral.
+
+    Raises
+    ------
+    ValueError
+        For asymmetric, non-positive or non-finite limits, a percentile
+        outside (0, 100], or no values and no limits.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dentopo import color_scale
+    >>> color_scale(np.r_[np.linspace(-1, 1, 99), 50.0], percentile=98).rule
+    '±0.9596 (98th percentile of the magnitude)'
+    >>> color_scale(limits=0.05).limits
+    (-0.05, 0.05)
+    """
+    if limits is not None:
+        return ColorScale(_check_limits(limits), f"±{_check_limits(limits):.4g} (fixed)")
+    if isinstance(percentile, bool) or not isinstance(percentile, Real):
+        raise TypeError(f"percentile must be a number; got {type(percentile).__name__}")
+    if not 0 < percentile <= 100:
+        raise ValueError(f"percentile must lie in (0, 100]; got {percentile!r}")
+    if values is None:
+        raise ValueError("color_scale needs values or fixed limits")
+    if isinstance(values, (list, tuple)) and values and np.ndim(values[0]) == 1:
+        values = np.concatenate([np.ravel(np.asarray(v, dtype=np.float64)) for v in values])
+    magnitude = np.abs(np.ravel(np.asarray(values, dtype=np.float64)))
+    magnitude = magnitude[np.isfinite(magnitude)]
+    limit = float(np.percentile(magnitude, percentile)) if magnitude.size else 0.0
+    if limit <= 0.0:
+        limit = float(magnitude.max()) if magnitude.size else 0.0
+    if limit <= 0.0:
+        return ColorScale(1.0, "±1 (the field is zero everywhere)")
+    return ColorScale(limit, f"±{limit:.4g} ({_ordinal(percentile)} percentile of the magnitude)")
+
+
+def _check_limits(limits) -> float:
+    if isinstance(limits, Real) and not isinstance(limits, bool):
+        limit = float(limits)
+    else:
+        try:
+            low, high = (float(v) for v in limits)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"limits must be a number L or a pair (-L, L); got {limits!r}") from exc
+        if not np.isclose(low, -high, rtol=1e-12, atol=0.0):
+            raise ValueError(
+                f"limits must be symmetric about zero, (-L, L), so that the neutral colour "
+                f"means zero; got ({low!r}, {high!r})"
+            )
+        limit = high
+    if not np.isfinite(limit) or limit <= 0:
+        raise ValueError(f"the limit L must be positive and finite; got {limit!r}")
+    return limit
+
+
+def lookup_table(n: int = 255) -> np.ndarray:
+    """A colour table for renderers that map values linearly onto ``n`` entries.
+
+    Parameters
+    ----------
+    n : int, default 255
+        Number of entries; odd, so that the middle entry, which zero falls
+        into when the range is symmetric, is exactly the neutral colour.
+
+    Returns
+    -------
+    (n, 4) uint8
+        RGBA rows, entry ``k`` coloured at the centre of its bin.
+    """
+    if n < 3 or n % 2 == 0:
+        raise ValueError(f"the table needs an odd number (>= 3) of entries; got {n}")
+    centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
+    rgb = np.round(255 * diverging_rgb(centres)).astype(np.uint8)
+    return np.column_stack([rgb, np.full(n, 255, dtype=np.uint8)])

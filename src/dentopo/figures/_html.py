@@ -1,0 +1,313 @@
+"""Self-contained HTML pages: coloured meshes to rotate in a browser, offline.
+
+One file holds everything: the meshes (base64 binary arrays in a JSON block),
+a small viewer (inline JavaScript drawing with WebGL, or with a 2D canvas
+where WebGL is unavailable), the colour bar and the captions.  The page loads
+nothing: no scripts, styles, fonts or data from elsewhere, and its Content
+Security Policy (``default-src 'none'``) makes the browser refuse any request
+it might try.  Drag to rotate (all panels turn together), wheel to zoom,
+double-click to reset.  Opening the page with ``#canvas2d`` appended to
+its address forces the 2D-canvas fallback.  numpy only.
+"""
+
+from __future__ import annotations
+
+import base64
+import html as html_escape
+import json
+import os
+
+import numpy as np
+
+from ._colors import ColorScale, diverging_rgb
+from ._views import view_rotation
+
+
+def _b64(array: np.ndarray, dtype) -> str:
+    return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode("ascii")
+
+
+def _mesh_payload(vertices, faces, rgb, label, caption) -> dict:
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    low, high = vertices.min(axis=0), vertices.max(axis=0)
+    centred = vertices - 0.5 * (low + high)
+    radius = float(np.linalg.norm(centred, axis=1).max()) or 1.0
+    tri = centred[faces]
+    face_normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])  # area-weighted
+    normals = np.zeros_like(centred)
+    for corner in range(3):
+        np.add.at(normals, faces[:, corner], face_normal)
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
+    return {
+        "label": label,
+        "caption": caption,
+        "nv": len(vertices),
+        "nf": len(faces),
+        "positions": _b64(centred / radius, "<f4"),
+        "normals": _b64(normals, "<f4"),
+        "colors": _b64(rgb, np.uint8),
+        "faces": _b64(faces, "<u4"),
+    }
+
+
+def write_html(
+    path,
+    meshes,
+    *,
+    scale: ColorScale,
+    title: str,
+    legend: str = "blue \u2212 concave, red + convex",
+    view: str | None = "iso",
+) -> None:
+    """Write a self-contained interactive page of coloured meshes.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The HTML file to write.
+    meshes : sequence of (vertices, faces, rgb, label, caption)
+        ``vertices`` (n, 3) float, ``faces`` (m, 3) int, ``rgb`` (n, 3) uint8
+        per-vertex colours, and the texts shown above each mesh.
+    scale : ColorScale
+        The colour scale used, for the colour bar.
+    title : str
+        Name of the coloured quantity.
+    legend : str
+        What the colours mean, shown by the colour bar.
+    view : str, optional
+        Initial view preset (default "iso"); None means "iso".
+    """
+    payload = {
+        "meshes": [_mesh_payload(*m) for m in meshes],
+        "rotation": view_rotation(view).tolist(),
+    }
+    stops = ", ".join(
+        f"rgb({r},{g},{b}) {100 * (t + 1) / 2:.1f}%"
+        for t, (r, g, b) in zip(
+            np.linspace(-1, 1, 21),
+            np.round(255 * diverging_rgb(np.linspace(-1, 1, 21))).astype(int),
+            strict=True,
+        )
+    )
+    low, high = scale.limits
+    data = json.dumps(payload, separators=(",", ":")).replace("</", "<\\/")
+    page = (
+        _TEMPLATE.replace("%TITLE%", html_escape.escape(title))
+        .replace("%GRADIENT%", stops)
+        .replace("%LOW%", f"{low:.3g}")
+        .replace("%HIGH%", f"{high:.3g}")
+        .replace("%RULE%", html_escape.escape(scale.rule))
+        .replace("%LEGEND%", html_escape.escape(legend))
+        .replace("%SCRIPT%", _SCRIPT)
+        .replace("%DATA%", data)
+    )
+    with open(os.fspath(path), "w", encoding="utf-8") as handle:
+        handle.write(page)
+
+
+_TEMPLATE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta http-equiv="Content-Security-Policy"
+ content="default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>dentopo: %TITLE%</title>
+<style>
+html, body { margin: 0; height: 100%; background: #fff; color: #111;
+  font: 14px system-ui, sans-serif; }
+body { display: flex; flex-direction: column; }
+#panels { flex: 1; display: grid; gap: 4px; padding: 4px; min-height: 0; }
+.cell { position: relative; min-height: 0; }
+.cell canvas { width: 100%; height: 100%; display: block; touch-action: none; cursor: grab; }
+.text { position: absolute; left: 6px; top: 4px; white-space: pre; pointer-events: none; }
+#bar { padding: 6px 15% 10px; }
+#gradient { height: 16px; background: linear-gradient(to right, %GRADIENT%); }
+#ticks { display: flex; justify-content: space-between; }
+#rule { text-align: center; }
+</style>
+</head>
+<body>
+<div id="panels"></div>
+<div id="bar">
+<div id="rule">%TITLE% &nbsp; %RULE% &nbsp; %LEGEND%</div>
+<div id="gradient"></div>
+<div id="ticks"><span>%LOW%</span><span>0</span><span>%HIGH%</span></div>
+</div>
+<div id="status" hidden></div>
+<script type="application/json" id="dentopo-data">%DATA%</script>
+<script>%SCRIPT%</script>
+</body>
+</html>
+"""
+
+_SCRIPT = r"""
+"use strict";
+(function () {
+  const data = JSON.parse(document.getElementById("dentopo-data").textContent);
+  const status = document.getElementById("status");
+  const force2d = window.location.hash === "#canvas2d";  // the fallback, on request
+  function bytes(b64) {
+    const s = atob(b64), out = new Uint8Array(s.length);
+    for (let i = 0; i < s.length; i++) out[i] = s.charCodeAt(i);
+    return out.buffer;
+  }
+  const start = data.rotation.map(function (r) { return r.slice(); });
+  const state = { rot: start.map(function (r) { return r.slice(); }), zoom: 0.9, views: [] };
+  function mul(a, b) {
+    const c = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
+    for (let i = 0; i < 3; i++) for (let j = 0; j < 3; j++)
+      for (let k = 0; k < 3; k++) c[i][j] += a[i][k] * b[k][j];
+    return c;
+  }
+  function turn(ax, ay) {  // rotate about the screen's y (ax) and x (ay) axes
+    const cy = Math.cos(ax), sy = Math.sin(ax), cx = Math.cos(ay), sx = Math.sin(ay);
+    const ry = [[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]];
+    const rx = [[1, 0, 0], [0, cx, -sx], [0, sx, cx]];
+    state.rot = mul(rx, mul(ry, state.rot));
+  }
+  function drawAll() { state.views.forEach(function (v) { v.draw(); }); }
+
+  function webglView(canvas, m) {
+    let gl = canvas.getContext("webgl2", { antialias: true, preserveDrawingBuffer: true });
+    let kind = "webgl2";
+    if (!gl) {
+      gl = canvas.getContext("webgl", { antialias: true, preserveDrawingBuffer: true });
+      kind = "webgl";
+      if (!gl || !gl.getExtension("OES_element_index_uint")) return null;
+    }
+    const vs = "attribute vec3 p; attribute vec3 n; attribute vec3 c;" +
+      "uniform mat3 r; uniform vec2 s; varying vec3 vc; varying vec3 vn;" +
+      "void main() { vec3 q = r * p; vn = r * n; vc = c;" +
+      " gl_Position = vec4(q.x * s.x, q.y * s.y, -q.z * 0.5, 1.0); }";
+    const fs = "precision mediump float; varying vec3 vc; varying vec3 vn;" +
+      "void main() { vec3 l = normalize(vec3(0.3, 0.4, 1.0));" +
+      " float d = abs(dot(normalize(vn), l));" +
+      " gl_FragColor = vec4(vc * (0.35 + 0.65 * d), 1.0); }";
+    function shader(type, src) {
+      const sh = gl.createShader(type);
+      gl.shaderSource(sh, src); gl.compileShader(sh);
+      return sh;
+    }
+    const prog = gl.createProgram();
+    gl.attachShader(prog, shader(gl.VERTEX_SHADER, vs));
+    gl.attachShader(prog, shader(gl.FRAGMENT_SHADER, fs));
+    gl.linkProgram(prog);
+    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) return null;
+    gl.useProgram(prog);
+    function attribute(name, array, size, type, normalized) {
+      const loc = gl.getAttribLocation(prog, name), buf = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, buf);
+      gl.bufferData(gl.ARRAY_BUFFER, array, gl.STATIC_DRAW);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, size, type, normalized, 0, 0);
+    }
+    attribute("p", m.positions, 3, gl.FLOAT, false);
+    attribute("n", m.normals, 3, gl.FLOAT, false);
+    attribute("c", m.colors, 3, gl.UNSIGNED_BYTE, true);
+    const ibuf = gl.createBuffer();
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ibuf);
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, m.faces, gl.STATIC_DRAW);
+    const ur = gl.getUniformLocation(prog, "r"), us = gl.getUniformLocation(prog, "s");
+    gl.enable(gl.DEPTH_TEST);
+    return { kind: kind, draw: function () {
+      const w = canvas.width, h = canvas.height, k = state.zoom * Math.min(w, h);
+      gl.viewport(0, 0, w, h);
+      gl.clearColor(1, 1, 1, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+      const r = state.rot;  // column-major: the transpose of the row list
+      gl.uniformMatrix3fv(ur, false, [r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1],
+        r[0][2], r[1][2], r[2][2]]);
+      gl.uniform2f(us, k / w, k / h);
+      gl.drawElements(gl.TRIANGLES, m.faces.length, gl.UNSIGNED_INT, 0);
+    } };
+  }
+
+  function canvasView(canvas, m) {  // painter's algorithm, flat shading per face
+    const ctx = canvas.getContext("2d");
+    const nf = m.faces.length / 3, order = new Uint32Array(nf), depth = new Float32Array(nf);
+    const sx = new Float32Array(m.nv), sy = new Float32Array(m.nv), sz = new Float32Array(m.nv);
+    return { kind: "canvas2d", draw: function () {
+      const w = canvas.width, h = canvas.height, k = state.zoom * Math.min(w, h) / 2;
+      const r = state.rot, p = m.positions, f = m.faces, c = m.colors;
+      ctx.fillStyle = "#fff"; ctx.fillRect(0, 0, w, h);
+      for (let i = 0; i < m.nv; i++) {
+        const x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+        sx[i] = w / 2 + k * (r[0][0] * x + r[0][1] * y + r[0][2] * z);
+        sy[i] = h / 2 - k * (r[1][0] * x + r[1][1] * y + r[1][2] * z);
+        sz[i] = r[2][0] * x + r[2][1] * y + r[2][2] * z;
+      }
+      for (let t = 0; t < nf; t++) {
+        order[t] = t; depth[t] = sz[f[3 * t]] + sz[f[3 * t + 1]] + sz[f[3 * t + 2]];
+      }
+      order.sort(function (a, b) { return depth[a] - depth[b]; });
+      const lx = 0.3 / 1.1180, ly = 0.4 / 1.1180, lz = 1.0 / 1.1180;
+      for (let o = 0; o < nf; o++) {
+        const t = order[o], a = f[3 * t], b = f[3 * t + 1], d = f[3 * t + 2];
+        const ux = (sx[b] - sx[a]) / k, uy = (sy[a] - sy[b]) / k, uz = sz[b] - sz[a];
+        const vx = (sx[d] - sx[a]) / k, vy = (sy[a] - sy[d]) / k, vz = sz[d] - sz[a];
+        let nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+        const len = Math.hypot(nx, ny, nz) || 1;
+        const s = 0.35 + 0.65 * Math.abs((nx * lx + ny * ly + nz * lz) / len);
+        const cr = (c[3 * a] + c[3 * b] + c[3 * d]) / 3 * s;
+        const cg = (c[3 * a + 1] + c[3 * b + 1] + c[3 * d + 1]) / 3 * s;
+        const cb = (c[3 * a + 2] + c[3 * b + 2] + c[3 * d + 2]) / 3 * s;
+        ctx.fillStyle = "rgb(" + (cr | 0) + "," + (cg | 0) + "," + (cb | 0) + ")";
+        ctx.strokeStyle = ctx.fillStyle;
+        ctx.beginPath(); ctx.moveTo(sx[a], sy[a]); ctx.lineTo(sx[b], sy[b]);
+        ctx.lineTo(sx[d], sy[d]); ctx.closePath(); ctx.fill(); ctx.stroke();
+      }
+    } };
+  }
+
+  const panels = document.getElementById("panels");
+  const n = data.meshes.length, cols = n <= 4 ? n : Math.ceil(Math.sqrt(n));
+  panels.style.gridTemplateColumns = "repeat(" + cols + ", 1fr)";
+  panels.style.gridTemplateRows = "repeat(" + Math.ceil(n / cols) + ", 1fr)";
+  const kinds = [];
+  data.meshes.forEach(function (raw) {
+    const m = { nv: raw.nv, positions: new Float32Array(bytes(raw.positions)),
+      normals: new Float32Array(bytes(raw.normals)), colors: new Uint8Array(bytes(raw.colors)),
+      faces: new Uint32Array(bytes(raw.faces)) };
+    const cell = document.createElement("div"), canvas = document.createElement("canvas");
+    const text = document.createElement("div");
+    cell.className = "cell"; text.className = "text";
+    text.textContent = [raw.label, raw.caption].filter(Boolean).join("\n");
+    cell.appendChild(canvas); cell.appendChild(text); panels.appendChild(cell);
+    const view = (force2d ? null : webglView(canvas, m)) || canvasView(canvas, m);
+    view.canvas = canvas;
+    kinds.push(view.kind);
+    state.views.push(view);
+    let last = null;
+    canvas.addEventListener("pointerdown", function (e) {
+      last = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId);
+    });
+    canvas.addEventListener("pointermove", function (e) {
+      if (!last) return;
+      turn((e.clientX - last[0]) * 0.01, (e.clientY - last[1]) * 0.01);
+      last = [e.clientX, e.clientY]; drawAll();
+    });
+    canvas.addEventListener("pointerup", function () { last = null; });
+    canvas.addEventListener("wheel", function (e) {
+      e.preventDefault(); state.zoom *= Math.exp(-e.deltaY * 0.001); drawAll();
+    }, { passive: false });
+    canvas.addEventListener("dblclick", function () {
+      state.rot = start.map(function (r) { return r.slice(); }); state.zoom = 0.9; drawAll();
+    });
+  });
+  function resize() {
+    const ratio = window.devicePixelRatio || 1;
+    state.views.forEach(function (v) {
+      v.canvas.width = Math.max(1, Math.round(v.canvas.clientWidth * ratio));
+      v.canvas.height = Math.max(1, Math.round(v.canvas.clientHeight * ratio));
+    });
+    drawAll();
+  }
+  window.addEventListener("resize", resize);
+  resize();
+  status.setAttribute("data-renderer", kinds.join(" "));
+  status.setAttribute("data-ready", "yes");
+})();
+"""

@@ -1,0 +1,39 @@
+"""The input surface: reading a mesh, validating it, cleaning it, and its topology.
+
+Holds what every metric needs before it measures anything: reading a file or
+accepting ``(vertices, faces)`` (``_read``), the published cleaning steps and the
+unit-area working copy (``_prepare``), boundaries, consistent and outward
+orientation and the capping of holes (``_topology``), and a spatial order of
+points (``_spatial``).
+
+May import: numpy, scipy, numba, trimesh.  Nothing else of dentopo: it is the
+bottom layer.
+"""
+
+from ._prepare import (
+    DEGENERATE_HEIGHT,
+    PreparedMesh,
+    clean,
+    prepare,
+    vertex_areas,
+    vertex_normals,
+)
+from ._read import as_arrays, load_mesh
+from ._spatial import spatial_order
+from ._topology import boundary_edges, close_holes, orient_consistently, outward_faces
+
+__all__ = [
+    "DEGENERATE_HEIGHT",
+    "PreparedMesh",
+    "as_arrays",
+    "boundary_edges",
+    "clean",
+    "close_holes",
+    "load_mesh",
+    "orient_consistently",
+    "outward_faces",
+    "prepare",
+    "spatial_order",
+    "vertex_areas",
+    "vertex_normals",
+]

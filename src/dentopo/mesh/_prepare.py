@@ -1,0 +1,152 @@
+"""Mesh input: reading, validation, cleaning and normalisation.
+
+Everything that turns what a caller hands us (a ``trimesh.Trimesh``, a path, or
+``(vertices, faces)`` arrays) into the cleaned, unit-area working copy that the
+curvature computation uses.  The caller's object is never modified: all work is
+done on copies.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+
+from ._read import as_arrays
+from ._topology import boundary_edges, orient_consistently
+
+#: Faces whose height is below this (in the mesh's own units) are dropped.
+DEGENERATE_HEIGHT = 1e-8
+
+
+@dataclass(frozen=True)
+class PreparedMesh:
+    """A cleaned mesh and the derived quantities every later stage needs.
+
+    Attributes
+    ----------
+    mesh : trimesh.Trimesh
+        The cleaned mesh, in the caller's units (a private copy).
+    points : (n, 3) float
+        Vertices translated to their mean and scaled to unit total area.
+    vertex_area_raw : (n,) float
+        One third of the area of the faces using each vertex, in mesh units.
+    vertex_area : (n,) float
+        The same after scaling, so that it sums to one.
+    normals : (n, 3) float
+        Unit vertex normals: the normalised sum of incident unit face normals,
+        after orienting the faces consistently (a no-op for the usual,
+        consistently oriented mesh; it rescues meshes with flipped faces).
+    scale : float
+        The factor that maps mesh units to the unit-area scale.
+    """
+
+    mesh: trimesh.Trimesh
+    points: np.ndarray
+    vertex_area_raw: np.ndarray
+    vertex_area: np.ndarray
+    normals: np.ndarray
+    scale: float
+
+
+def _may_have_small_holes(faces: np.ndarray, n_vertices: int) -> bool:
+    """False when trimesh's ``fill_holes`` provably adds nothing (it is slow on big meshes).
+
+    ``fill_holes`` caps the 3- and 4-edge cycles of a cycle basis of the boundary
+    edges.  If every boundary component is one simple loop (every boundary
+    vertex on exactly two boundary edges) of at least 5 edges, the basis holds
+    only those loops and nothing is added.
+    """
+    edges = boundary_edges(faces, n_vertices)
+    if len(edges) == 0:
+        return False  # watertight
+    if len(edges) < 3:
+        return True  # trimesh's own special case: let it decide
+    degree = np.bincount(edges.ravel(), minlength=n_vertices)
+    if np.any(degree[degree > 0] != 2):
+        return True
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n_vertices,) * 2)
+    _, label = connected_components(graph, directed=False)
+    loop_size = np.bincount(label[edges[:, 0]])
+    return bool(np.any((loop_size > 0) & (loop_size < 5)))
+
+
+def clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
+    """Clean a mesh as the published computation does, on a private copy.
+
+    Fills trivially small holes (trimesh ``fill_holes``: three- and four-edge
+    holes), drops faces whose height is below ``DEGENERATE_HEIGHT``, drops
+    duplicate faces, drops non-finite values and unreferenced vertices.
+
+    Raises
+    ------
+    ValueError
+        If nothing usable is left.
+    """
+    mesh = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
+    if _may_have_small_holes(faces, len(vertices)):
+        mesh.fill_holes()
+    mesh.update_faces(mesh.nondegenerate_faces(height=DEGENERATE_HEIGHT))
+    mesh.update_faces(mesh.unique_faces())
+    mesh.remove_infinite_values()
+    mesh.remove_unreferenced_vertices()
+    if len(mesh.faces) == 0:
+        raise ValueError("cleaning left the mesh empty: every face is degenerate")
+    if len(mesh.vertices) < 4:
+        raise ValueError(f"cleaning left {len(mesh.vertices)} vertices; at least 4 are needed")
+    return mesh
+
+
+def vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """One third of the total area of the faces around each vertex, shape (n,)."""
+    tri = vertices[faces]
+    face_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    # bincount adds in input order, as np.add.at does (same rounding), but fast
+    return np.bincount(
+        faces.ravel(), weights=np.repeat(face_area / 3.0, 3), minlength=len(vertices)
+    )
+
+
+def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Unit vertex normals: normalised sum of the unit normals of incident faces."""
+    tri = vertices[faces]
+    face_normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    length = np.linalg.norm(face_normal, axis=1, keepdims=True)
+    face_normal = np.divide(face_normal, length, out=np.zeros_like(face_normal), where=length > 0)
+    # the three corners in turn, each in face order: the order np.add.at would add in
+    corner = faces.T.ravel()
+    normal = np.column_stack(
+        [
+            np.bincount(corner, weights=np.tile(face_normal[:, a], 3), minlength=len(vertices))
+            for a in range(3)
+        ]
+    )
+    length = np.linalg.norm(normal, axis=1, keepdims=True)
+    return np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
+
+
+def prepare(mesh) -> PreparedMesh:
+    """Validate, clean and normalise any accepted mesh input (see `as_arrays`)."""
+    vertices, faces = as_arrays(mesh)
+    cleaned = clean(vertices, faces)
+    v = np.asarray(cleaned.vertices, dtype=np.float64)
+    # vertex normals need neighbouring faces to agree; a no-op for consistent meshes
+    f = orient_consistently(np.asarray(cleaned.faces, dtype=np.int64), len(v))
+    area_raw = vertex_areas(v, f)
+    total = float(area_raw.sum())
+    if not total > 0:
+        raise ValueError("the mesh has zero surface area")
+    scale = 1.0 / np.sqrt(total)
+    points = (v - v.mean(axis=0)) * scale
+    return PreparedMesh(
+        mesh=cleaned,
+        points=points,
+        vertex_area_raw=area_raw,
+        vertex_area=area_raw / total,
+        normals=vertex_normals(v, f),
+        scale=float(scale),
+    )

@@ -1,0 +1,150 @@
+"""Watertight closure for the inside test: consistent orientation, holes capped.
+
+The sign test asks whether a point lies inside the closed surface.  An open
+mesh (a tooth crown cut at the cervix, a scan with holes) is closed first:
+
+1. Faces are oriented consistently (a breadth-first walk over the face
+   adjacency flips faces whose shared edge runs the same way as their
+   neighbour's).  Meshes that are already consistent, the usual case, skip this.
+2. Every connected set of boundary edges is capped by a fan of triangles around
+   one new vertex at the mean of its boundary vertices.  The cap triangles run
+   each boundary edge backwards, so the closed surface is consistently oriented.
+
+Both steps are near-linear in the mesh size (sorting edges; the walk is
+compiled): a few milliseconds for 10k faces, about a second for 2M.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+
+def _directed_edges(faces: np.ndarray) -> np.ndarray:
+    faces = np.asarray(faces)
+    return np.stack([faces.T.ravel(), np.roll(faces, -1, axis=1).T.ravel()], axis=1)
+
+
+def _edge_keys(edges: np.ndarray, n: int) -> np.ndarray:
+    return edges[:, 0].astype(np.int64) * n + edges[:, 1]
+
+
+@njit(cache=True)
+def _propagate_flips(start, neighbour, same, m):
+    """Breadth-first walk over face adjacency; a face flips if it disagrees with its parent.
+
+    ``neighbour[start[f]:start[f + 1]]`` are the faces sharing an edge with f,
+    ``same`` whether that edge runs the same way in both (one must flip).  Each
+    connected patch keeps the orientation of its lowest-numbered face.
+    """
+    flip = np.zeros(m, dtype=np.bool_)
+    visited = np.zeros(m, dtype=np.bool_)
+    queue = np.empty(m, dtype=np.int64)
+    for root in range(m):
+        if visited[root]:
+            continue
+        visited[root] = True
+        queue[0] = root
+        head = 0
+        tail = 1
+        while head < tail:
+            f = queue[head]
+            head += 1
+            for e in range(start[f], start[f + 1]):
+                g = neighbour[e]
+                if not visited[g]:
+                    visited[g] = True
+                    flip[g] = flip[f] ^ same[e]
+                    queue[tail] = g
+                    tail += 1
+    return flip
+
+
+def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """Return faces flipped where needed so that neighbours agree on orientation.
+
+    Each connected patch keeps the orientation of its first face.  Edges shared
+    by more than two faces are ignored (no consistent orientation exists there).
+    """
+    m = len(faces)
+    directed = _directed_edges(faces)
+    directed_keys = np.sort(_edge_keys(directed, n_vertices))
+    if not np.any(directed_keys[1:] == directed_keys[:-1]):
+        return faces  # no directed edge used twice: already consistent
+    del directed_keys
+    face_of = np.tile(np.arange(m), 3)
+    undirected = np.sort(directed, axis=1)
+    key = _edge_keys(undirected, n_vertices)
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    starts = np.flatnonzero(np.r_[True, sorted_key[1:] != sorted_key[:-1]])
+    sizes = np.diff(np.r_[starts, len(key)])
+    pairs = starts[sizes == 2]
+    a, b = order[pairs], order[pairs + 1]
+    # same direction along the shared edge means one of the two faces is flipped
+    same = directed[a, 0] == directed[b, 0]
+    fa, fb = face_of[a], face_of[b]
+    source = np.r_[fa, fb]
+    by_face = np.argsort(source, kind="stable")
+    start = np.searchsorted(source[by_face], np.arange(m + 1))
+    flip = _propagate_flips(start, np.r_[fb, fa][by_face], np.r_[same, same][by_face], m)
+    fixed = faces.copy()
+    fixed[flip] = fixed[flip][:, ::-1]
+    return fixed
+
+
+def boundary_edges(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """Directed edges (as they run in their face) that no other face shares, shape (k, 2)."""
+    directed = _directed_edges(faces)
+    key = _edge_keys(np.sort(directed, axis=1), n_vertices)
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    differs = sorted_key[1:] != sorted_key[:-1]
+    alone = np.r_[True, differs] & np.r_[differs, True]  # a key that occurs once
+    once = np.zeros(len(key), dtype=bool)
+    once[order[alone]] = True
+    return directed[once]
+
+
+def close_holes(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A watertight, consistently oriented version of a mesh for the inside test.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float
+    faces : (m, 3) int
+
+    Returns
+    -------
+    vertices : (n + h, 3) float
+        The input vertices followed by one centre vertex per hole.
+    faces : (m + k, 3) int
+        The consistently oriented faces followed by the cap triangles.
+    """
+    n = len(vertices)
+    faces = orient_consistently(np.asarray(faces), n)
+    edges = boundary_edges(faces, n)
+    if len(edges) == 0:
+        return vertices, faces
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    hole = np.unique(label[edges[:, 0]], return_inverse=True)[1]
+    n_holes = hole.max() + 1
+    on_boundary = np.unique(edges.ravel())
+    hole_of_vertex = np.unique(label[on_boundary], return_inverse=True)[1]
+    centre = np.zeros((n_holes, 3))
+    np.add.at(centre, hole_of_vertex, vertices[on_boundary])
+    centre /= np.bincount(hole_of_vertex, minlength=n_holes)[:, None]
+    cap = np.column_stack([edges[:, 1], edges[:, 0], n + hole])
+    return np.vstack([vertices, centre]), np.vstack([faces, cap])
+
+
+def outward_faces(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Faces oriented consistently, and outward: the capped surface has positive volume."""
+    faces = orient_consistently(np.asarray(faces, dtype=np.int64), len(points))
+    closed_vertices, closed_faces = close_holes(points, faces)
+    tri = closed_vertices[closed_faces]
+    volume = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum() / 6.0
+    return faces if volume >= 0 else faces[:, ::-1].copy()

@@ -1,0 +1,180 @@
+"""Figures of the robustness study and the bandwidth sweep (matplotlib only).
+
+* `sign_grid`: rows of coloured meshes, one row per method, one column per mesh
+  or bandwidth (the paper's Figures 2 and 6).  Every cell is drawn from the
+  same viewpoint: looking down the outward mean normal of the first mesh (the
+  occlusal view of an open crown), orthographic, faces painted back to front
+  and shaded by the cosine to the view.  Colours: a diverging map centred on
+  zero (red convex, blue concave), symmetric limits at the 98th percentile of
+  |value| over the row, so colours compare along a row.  ariaDNE cells show
+  ``local_curvature`` (per vertex, averaged per face); classic DNE cells show
+  the face energy density signed by molaR's convex/concave class (excluded
+  faces at zero), each cell scaled by its own percentile, because the density
+  itself grows with the resolution.
+* `totals_bars`: one bar chart per method of DNE, positive and negative
+  totals normalised by the original mesh, and the sign agreement (the
+  paper's Figure 5).
+
+Drawn with ``matplotlib.figure.Figure`` (no pyplot state, no display needed).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..mesh import outward_faces
+from ..topography import ClassicDNEResult
+
+PERCENTILE = 98.0
+CMAP = "RdBu_r"
+METHOD_LABELS = {
+    "centroid": "signDNE (centroid)",
+    "winding": "winding number",
+    "mean_curvature": "mean curvature",
+    "gaussian_curvature": "Gaussian curvature",
+    "classic": "classic DNE (molaR)",
+}
+
+
+def face_values(result) -> np.ndarray:
+    """The signed value drawn on each face of ``result.mesh``."""
+    if isinstance(result, ClassicDNEResult):
+        signed = np.where(result.convex, result.face_energy, -result.face_energy)
+        return np.where(result.excluded, 0.0, signed)
+    faces = np.asarray(result.mesh.faces)
+    return result.local_curvature[faces].mean(axis=1)
+
+
+def view_basis(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Rows: right, up, toward the viewer; the viewer looks down the outward mean normal."""
+    oriented = outward_faces(vertices, faces)
+    tri = vertices[oriented]
+    total = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]).sum(axis=0)
+    area2 = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum()
+    toward = total / np.linalg.norm(total) if np.linalg.norm(total) > 0.1 * area2 else np.eye(3)[2]
+    helper = np.eye(3)[np.argmin(np.abs(toward))]
+    right = np.cross(helper, toward)
+    right /= np.linalg.norm(right)
+    return np.vstack([right, np.cross(toward, right), toward])
+
+
+def draw_mesh(ax, vertices, faces, values, *, basis, limit, cmap=CMAP) -> None:
+    """Paint a mesh on a 2-D axes, orthographic along ``basis[2]``, back to front."""
+    from matplotlib import colormaps
+    from matplotlib.collections import PolyCollection
+
+    projected = (vertices - vertices.mean(axis=0)) @ basis.T
+    tri = projected[faces]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    length = np.linalg.norm(normal, axis=1)
+    shade = np.divide(np.abs(normal[:, 2]), length, out=np.zeros(len(faces)), where=length > 0)
+    order = np.argsort(tri[:, :, 2].mean(axis=1))
+    colour = colormaps[cmap](0.5 + 0.5 * np.clip(values / limit, -1.0, 1.0))
+    colour[:, :3] *= (0.35 + 0.65 * shade)[:, None]
+    ax.add_collection(
+        PolyCollection(
+            tri[order, :, :2], facecolors=colour[order], edgecolors="none", antialiased=False
+        )
+    )
+    ax.set_xlim(projected[:, 0].min(), projected[:, 0].max())
+    ax.set_ylim(projected[:, 1].min(), projected[:, 1].max())
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+
+
+def _limit(values: np.ndarray) -> float:
+    return float(np.percentile(np.abs(values), PERCENTILE)) or 1.0
+
+
+def sign_grid(grid: Mapping[str, Sequence], column_labels: Sequence[str]):
+    """Rows of coloured meshes: ``grid[method]`` is one result per column.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
+
+    methods = list(grid)
+    ncols = len(column_labels)
+    figure = Figure(figsize=(1.9 * ncols + 1.2, 1.9 * len(methods) + 0.4), layout="constrained")
+    axes = figure.subplots(len(methods), ncols, squeeze=False)
+    first = grid[methods[0]][0].mesh
+    basis = view_basis(np.asarray(first.vertices, float), np.asarray(first.faces, np.int64))
+    for r, method in enumerate(methods):
+        values = [face_values(result) for result in grid[method]]
+        per_cell = all(isinstance(result, ClassicDNEResult) for result in grid[method])
+        limit = _limit(np.concatenate(values))
+        for c, (result, value) in enumerate(zip(grid[method], values, strict=True)):
+            mesh = result.mesh
+            if per_cell:
+                limit = _limit(value)
+            draw_mesh(
+                axes[r, c],
+                np.asarray(mesh.vertices, float),
+                np.asarray(mesh.faces, np.int64),
+                value,
+                basis=basis,
+                limit=limit,
+            )
+            if r == 0:
+                axes[r, c].set_title(column_labels[c], fontsize=9)
+        axes[r, 0].text(
+            -0.08,
+            0.5,
+            METHOD_LABELS.get(method, method),
+            transform=axes[r, 0].transAxes,
+            rotation=90,
+            ha="right",
+            va="center",
+            fontsize=9,
+        )
+        bar = figure.colorbar(
+            ScalarMappable(Normalize(-1 if per_cell else -limit, 1 if per_cell else limit), CMAP),
+            ax=axes[r, -1],
+            shrink=0.8,
+        )
+        bar.ax.tick_params(labelsize=7)
+        if per_cell:
+            bar.set_label("per mesh, / 98th pct.", fontsize=7)
+    return figure
+
+
+def totals_bars(rows: Sequence[Mapping], columns: Sequence[str], methods: Sequence[str]):
+    """Bar charts of normalised totals and sign agreement, one panel per method.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    series = (
+        ("dne_normalised", "DNE", "0.55"),
+        ("positive_normalised", "positive / convex", "#c0392b"),
+        ("negative_normalised", "negative / concave", "#2e6db4"),
+        ("sign_agreement", "sign agreement (area)", "#e0b040"),
+    )
+    figure = Figure(figsize=(1.3 * len(columns) + 2.5, 2.1 * len(methods)), layout="constrained")
+    axes = figure.subplots(len(methods), 1, squeeze=False, sharex=True)[:, 0]
+    table = {(row["perturbation"], row["method"]): row for row in rows}
+    x = np.arange(len(columns))
+    width = 0.8 / len(series)
+    top = 1.2
+    for ax, method in zip(axes, methods, strict=True):
+        for k, (key, label, colour) in enumerate(series):
+            heights = [table[name, method][key] for name in columns]
+            top = max(top, *(h for h in heights if np.isfinite(h)))
+            ax.bar(x + (k - 1.5) * width, heights, width, label=label, color=colour)
+        ax.axhline(1.0, color="k", linewidth=0.8, linestyle="--")
+        ax.set_title(METHOD_LABELS.get(method, method), fontsize=9, loc="left")
+        ax.tick_params(labelsize=8)
+    for ax in axes:
+        ax.set_ylim(0, 1.05 * top)
+    axes[-1].set_xticks(x, columns)
+    axes[0].legend(fontsize=7, ncols=len(series), loc="lower left")
+    return figure

@@ -1,0 +1,398 @@
+"""Classic DNE (Bunn et al. 2011) with molaR's convex/concave split.
+
+A separate metric from ariaDNE: the Dirichlet energy of the normal map,
+computed face by face from the vertex normals of the mesh, as the R package
+molaR (Pampush et al.; version 6.0) computes it, including its boundary and
+outlier exclusions and its per-face convex/concave classification.  It exists
+so that the sign of ariaDNE can be compared honestly with the sign most
+dental-topography studies use; every convention below is molaR's, including
+the odd ones, because matching its numbers requires them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from numbers import Real
+
+import numpy as np
+import trimesh
+
+from ..mesh import as_arrays, boundary_edges
+
+BOUNDARY_MODES = ("vertex", "leg", "none")
+OUTLIER_MODES = ("combined", "separate")
+
+#: Faces whose first-fundamental-form matrix has a 1-norm reciprocal condition
+#: number below this get zero energy density (molaR's rule).
+RCOND_MIN = 1e-5
+#: molaR rescales the mesh so that its size measure is this.
+SIZE_TARGET = 100.0
+
+#: Scalar fields, in the order of output tables.
+CLASSIC_FIELDS = (
+    "dne",
+    "convex_dne",
+    "concave_dne",
+    "surface_area",
+    "convex_area",
+    "concave_area",
+    "boundary_faces",
+    "outlier_faces",
+    "vertices",
+    "faces",
+    "outliers",
+    "kappa",
+    "boundary",
+    "outlier_mode",
+)
+
+
+@dataclass(frozen=True)
+class ClassicDNEResult:
+    """Classic DNE and molaR's convex/concave split for one mesh.
+
+    Per-face arrays follow the faces of the mesh as given (after dropping
+    unreferenced vertices, which does not reorder faces).
+
+    Attributes
+    ----------
+    dne : float
+        Classic DNE: ``sum(face_energy * rescaled face area)`` over the faces
+        that are not excluded.  Invariant to uniform scale.
+    convex_dne, concave_dne : float
+        The same sum over the non-excluded convex (``face_kappa > kappa``)
+        and concave (``face_kappa <= kappa``) faces; they add up to ``dne``.
+    surface_area : float
+        Total face area, mesh units.
+    convex_area, concave_area : float
+        Area of *all* convex and concave faces (excluded ones too), mesh units.
+    boundary_faces, outlier_faces : int
+        Faces excluded as boundary faces, and (of the rest) as outliers.
+    vertices, faces : int
+        Vertex and face counts of the mesh used.
+    outliers, kappa, boundary, outlier_mode
+        The settings used.
+    face_energy : (m,) float
+        Energy density ``trace(G^-1 H)`` of each face on molaR's rescaled mesh
+        (units 1/length**2 of that mesh), before exclusions; zero where ``G``
+        is ill conditioned.
+    face_area : (m,) float
+        Face area, mesh units.
+    face_dne : (m,) float
+        Each face's contribution to ``dne`` (energy density times rescaled
+        area; scale-free); zero for excluded faces.
+    face_kappa : (m,) float
+        molaR's per-face curvature value on the rescaled mesh (1/length).
+    excluded : (m,) bool
+        True for faces whose energy is set to zero as boundary faces or outliers.
+    mesh : trimesh.Trimesh
+        The mesh the per-face arrays refer to, in mesh units (a private copy).
+    """
+
+    dne: float
+    convex_dne: float
+    concave_dne: float
+    surface_area: float
+    convex_area: float
+    concave_area: float
+    boundary_faces: int
+    outlier_faces: int
+    vertices: int
+    faces: int
+    outliers: float
+    kappa: float
+    boundary: str
+    outlier_mode: str
+    face_energy: np.ndarray = field(repr=False, compare=False)
+    face_area: np.ndarray = field(repr=False, compare=False)
+    face_dne: np.ndarray = field(repr=False, compare=False)
+    face_kappa: np.ndarray = field(repr=False, compare=False)
+    excluded: np.ndarray = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+
+    @property
+    def convex(self) -> np.ndarray:
+        """(m,) bool: faces molaR classifies as convex (``face_kappa > kappa``)."""
+        return self.face_kappa > self.kappa
+
+    def to_dict(self) -> dict:
+        """The scalar fields as a plain dict (one row of a results table)."""
+        return {name: getattr(self, name) for name in CLASSIC_FIELDS}
+
+
+def _check_choice(name: str, value, choices: tuple[str, ...]) -> str:
+    if not isinstance(value, str) or value.lower() not in choices:
+        raise ValueError(f"{name} must be one of {choices} (any case); got {value!r}")
+    return value.lower()
+
+
+def _check_real(name: str, value, *, low: float, high: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise TypeError(f"{name} must be a real number; got {type(value).__name__}")
+    value = float(value)
+    if not (np.isfinite(value) and low <= value <= high):
+        raise ValueError(f"{name} must lie in [{low}, {high}]; got {value!r}")
+    return value
+
+
+def _unit_rows(x: np.ndarray) -> np.ndarray:
+    length = np.linalg.norm(x, axis=1, keepdims=True)
+    return np.divide(x, length, out=np.zeros_like(x), where=length > 0)
+
+
+def molar_scale(vertices: np.ndarray) -> float:
+    """molaR's size normalisation factor: ``100 / size``.
+
+    ``size`` centres each vertex's coordinate triple on the mean of its own
+    three coordinates (per vertex, not per axis) and takes the root of the sum
+    of squares over all vertices.
+    """
+    centred = vertices - vertices.mean(axis=1, keepdims=True)
+    size = float(np.sqrt(np.sum(centred**2)))
+    if not size > 0:
+        raise ValueError("the mesh has zero size (all vertices lie on the line x = y = z)")
+    return SIZE_TARGET / size
+
+
+def energy_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Vertex normals for the energy: normalised unweighted mean of unit face normals.
+
+    A vertex used by exactly one face gets a zero normal, as in molaR; a
+    degenerate face contributes a zero normal.
+    """
+    tri = vertices[faces]
+    unit = _unit_rows(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]))
+    total = np.zeros_like(vertices)
+    for k in range(3):
+        np.add.at(total, faces[:, k], unit)
+    normals = _unit_rows(total)
+    uses = np.bincount(faces.ravel(), minlength=len(vertices))
+    normals[uses == 1] = 0.0
+    return normals
+
+
+def area_weighted_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Vertex normals for kappa: normalised area-weighted sum of face normals.
+
+    This is what molaR's mesh reader (vcglib's normalised per-vertex normals)
+    attaches to the mesh, and what molaR's convex/concave test uses.
+    """
+    tri = vertices[faces]
+    weighted = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    total = np.zeros_like(vertices)
+    for k in range(3):
+        np.add.at(total, faces[:, k], weighted)
+    return _unit_rows(total)
+
+
+def face_energy_density(
+    vertices: np.ndarray, faces: np.ndarray, normals: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per-face Dirichlet energy density ``trace(G^-1 H)`` and area ``sqrt(det G)/2``.
+
+    Zero density where the 1-norm reciprocal condition number of ``G`` is
+    below ``RCOND_MIN``.
+    """
+    x, n = vertices[faces], normals[faces]
+    a, b = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+    c, d = n[:, 1] - n[:, 0], n[:, 2] - n[:, 0]
+    gaa, gab, gbb = (a * a).sum(1), (a * b).sum(1), (b * b).sum(1)
+    hcc, hcd, hdd = (c * c).sum(1), (c * d).sum(1), (d * d).sum(1)
+    det = gaa * gbb - gab * gab
+    # for a symmetric 2x2 matrix, ||G||_1 = ||G^-1||_1 * |det G|, both exactly
+    norm1 = np.maximum(np.abs(gaa) + np.abs(gab), np.abs(gab) + np.abs(gbb))
+    rcond = np.divide(np.abs(det), norm1**2, out=np.zeros_like(det), where=norm1 > 0)
+    ok = rcond >= RCOND_MIN
+    energy = np.zeros(len(faces))
+    energy[ok] = (gbb * hcc - 2.0 * gab * hcd + gaa * hdd)[ok] / det[ok]
+    area = 0.5 * np.sqrt(np.maximum(det, 0.0))
+    return energy, area
+
+
+def face_kappa(vertices: np.ndarray, faces: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """molaR's per-face curvature value, ``(k(2,1) + k(3,1) + k(1,2)) / 3``.
+
+    ``k(j, k) = ((n_j - n_k) . (x_j - x_k)) / |x_j - x_k|**2``.  Edge 1-2 is
+    counted twice and edge 2-3 not at all: that is molaR's formula.
+    """
+    x, n = vertices[faces], normals[faces]
+
+    def k(j, i):
+        dx = x[:, j] - x[:, i]
+        length2 = (dx * dx).sum(1)
+        dot = ((n[:, j] - n[:, i]) * dx).sum(1)
+        return np.divide(dot, length2, out=np.zeros_like(dot), where=length2 > 0)
+
+    return (k(1, 0) + k(2, 0) + k(0, 1)) / 3.0
+
+
+def _boundary_faces(faces: np.ndarray, n_vertices: int, mode: str) -> np.ndarray:
+    if mode == "none":
+        return np.zeros(len(faces), dtype=bool)
+    edges = boundary_edges(faces, n_vertices)
+    if len(edges) == 0:
+        return np.zeros(len(faces), dtype=bool)
+    if mode == "vertex":
+        on_boundary = np.zeros(n_vertices, dtype=bool)
+        on_boundary[edges.ravel()] = True
+        return on_boundary[faces].any(axis=1)
+    # "leg": faces that own a boundary edge (in either direction)
+    key = np.sort(edges, axis=1) @ np.array([n_vertices, 1], dtype=np.int64)
+    face_edges = np.stack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]], axis=1)
+    face_keys = np.sort(face_edges, axis=2) @ np.array([n_vertices, 1], dtype=np.int64)
+    return np.isin(face_keys, key).any(axis=1)
+
+
+def classic_dne(
+    mesh,
+    *,
+    outliers: float = 0.1,
+    kappa: float = 0.0,
+    boundary: str = "vertex",
+    outlier_mode: str = "combined",
+) -> ClassicDNEResult:
+    """Classic DNE (Bunn et al. 2011) with molaR 6.0's convex/concave split.
+
+    The computation and all its conventions are molaR's (``DNE()`` with
+    ``BoundaryDiscard``, ``outliers``, ``kappa`` and ``oex``):
+
+    1. **Mesh.** Files are read with ``trimesh.load`` defaults (duplicate
+       vertices merged, as molaR's reader does); arrays and meshes are used as
+       given, after dropping unreferenced vertices.  No other cleaning, no
+       re-orientation of faces.  The caller's mesh is never modified.
+    2. **Size normalisation.** All coordinates are multiplied by
+       ``100 / size``, where ``size`` is the root sum of squares, over all
+       vertices, of each vertex's coordinates centred on the mean of its *own*
+       x, y and z (molaR's per-vertex centring).  Totals do not depend on it;
+       ``face_kappa`` and ``face_energy`` magnitudes do.
+    3. **Energy normals.** Vertex normal = normalised *unweighted* mean of the
+       unit normals of the faces using the vertex; a vertex used by exactly
+       one face gets a zero normal.
+    4. **Energy density.** For a face with vertices 1, 2, 3: ``a = x2 - x1``,
+       ``b = x3 - x1``, ``c = n2 - n1``, ``d = n3 - n1``;
+       ``G = [[a.a, a.b], [a.b, b.b]]``, ``H = [[c.c, c.d], [c.d, d.d]]``;
+       density ``e = trace(G^-1 H)``, area ``sqrt(det G) / 2``.  If the
+       reciprocal condition number of ``G`` in the 1-norm (computed exactly,
+       ``|det G| / ||G||_1**2`` for a symmetric 2x2 matrix) is below 1e-5,
+       ``e = 0``.
+    5. **Boundary exclusion** (``boundary``): ``"vertex"`` zeroes the energy
+       of every face touching a vertex on a boundary edge (an edge used by one
+       face); ``"leg"`` only faces owning a boundary edge; ``"none"`` nothing.
+       A closed mesh has no boundary faces (molaR errors there; we do not).
+    6. **Outlier exclusion** (``outliers``, a percentage): ``Q`` is the
+       ``(100 - outliers) / 100`` quantile of the densities of all faces
+       (boundary zeros included), with R's default rule (type 7, linear
+       interpolation, numpy's ``"linear"``); faces with ``e > Q`` get zero
+       energy.  ``outlier_mode="separate"`` (molaR's ``oex = 's'``) takes the
+       quantile within the convex faces and within the concave faces apart.
+    7. **Convex or concave.** With the *area-weighted* vertex normals of
+       molaR's reader (normalised sum of unnormalised face normals) on the
+       rescaled coordinates, ``k(j, k) = ((n_j - n_k).(x_j - x_k)) /
+       |x_j - x_k|**2`` and the face value is
+       ``(k(2,1) + k(3,1) + k(1,2)) / 3`` (edge 1-2 twice, edge 2-3 never:
+       molaR's formula).  Convex when ``> kappa``, concave when ``<= kappa``.
+    8. **Totals.** DNE, convex DNE and concave DNE are sums of ``e * area``
+       (rescaled area; the product is scale-free) over the faces left after
+       both exclusions; convex and concave areas sum over *all* faces of each
+       class, in mesh units.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
+        A triangle mesh, open or closed.  Never modified.
+    outliers : float, default 0.1
+        Percentage of the highest energy densities discarded, in [0, 100].
+    kappa : float, default 0.0
+        Threshold on the face curvature value between concave (``<=``) and
+        convex (``>``), on molaR's rescaled mesh.
+    boundary : {"vertex", "leg", "none"}, default "vertex"
+        Which faces at the mesh boundary are excluded (molaR's ``BoundaryDiscard``).
+    outlier_mode : {"combined", "separate"}, default "combined"
+        One outlier quantile for all faces, or one per class (molaR's ``oex``).
+
+    Returns
+    -------
+    ClassicDNEResult
+        Totals, the convex/concave split, and per-face arrays.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For unusable meshes or options; the message names the problem.
+
+    References
+    ----------
+    Bunn J. M., Boyer D. M., Lipman Y., St. Clair E. M., Jernvall J.,
+    Daubechies I. (2011). Comparing Dirichlet normal surface energy of tooth
+    crowns, a new technique of molar shape quantification for dietary
+    inference. American Journal of Physical Anthropology 145(2), 247-261.
+    doi:10.1002/ajpa.21489
+
+    Pampush J. D., Winchester J. M., Morse P. E., Vining A. Q., Boyer D. M.,
+    Kay R. F. (2016). Introducing molaR: a new R package for quantitative
+    topographic analysis of teeth (and other topographic surfaces). Journal of
+    Mammalian Evolution 23, 397-412. doi:10.1007/s10914-016-9326-0
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from dentopo import classic_dne
+    >>> result = classic_dne(trimesh.creation.icosphere(subdivisions=3))
+    >>> result.concave_dne, result.boundary_faces
+    (0.0, 0)
+    >>> round(result.dne, 1)  # 8 pi = 25.13 for a sphere, less the top 0.1 % of faces
+    25.0
+    """
+    outliers = _check_real("outliers", outliers, low=0.0, high=100.0)
+    kappa = _check_real("kappa", kappa, low=-np.inf, high=np.inf)
+    boundary = _check_choice("boundary", boundary, BOUNDARY_MODES)
+    outlier_mode = _check_choice("outlier_mode", outlier_mode, OUTLIER_MODES)
+
+    vertices, faces = as_arrays(mesh)
+    used = np.unique(faces)
+    if len(used) < len(vertices):
+        remap = np.full(len(vertices), -1, dtype=np.int64)
+        remap[used] = np.arange(len(used))
+        vertices, faces = vertices[used], remap[faces]
+
+    scaled = vertices * molar_scale(vertices)
+    energy, area_scaled = face_energy_density(scaled, faces, energy_normals(scaled, faces))
+    values = face_kappa(scaled, faces, area_weighted_normals(scaled, faces))
+    convex = values > kappa
+
+    at_boundary = _boundary_faces(faces, len(vertices), boundary)
+    kept = np.where(at_boundary, 0.0, energy)
+    level = (100.0 - outliers) / 100.0
+    outlier = np.zeros(len(faces), dtype=bool)
+    groups = (convex, ~convex) if outlier_mode == "separate" else (np.ones_like(convex),)
+    for group in groups:
+        if group.any():
+            q = np.quantile(kept[group], level)  # numpy "linear" == R type 7
+            outlier |= group & (kept > q)
+    excluded = at_boundary | outlier
+    face_dne = np.where(excluded, 0.0, energy * area_scaled)
+
+    tri = vertices[faces]
+    face_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    return ClassicDNEResult(
+        dne=float(face_dne.sum()),
+        convex_dne=float(face_dne[convex].sum()),
+        concave_dne=float(face_dne[~convex].sum()),
+        surface_area=float(face_area.sum()),
+        convex_area=float(face_area[convex].sum()),
+        concave_area=float(face_area[~convex].sum()),
+        boundary_faces=int(at_boundary.sum()),
+        outlier_faces=int((outlier & ~at_boundary).sum()),
+        vertices=len(vertices),
+        faces=len(faces),
+        outliers=outliers,
+        kappa=kappa,
+        boundary=boundary,
+        outlier_mode=outlier_mode,
+        face_energy=energy,
+        face_area=face_area,
+        face_dne=face_dne,
+        face_kappa=values,
+        excluded=excluded,
+        mesh=trimesh.Trimesh(vertices, faces, process=False),
+    )

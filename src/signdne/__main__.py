@@ -1,5 +1,0 @@
-"""``python -m signdne``: the signDNE command."""
-
-from ._cli import run
-
-run()

@@ -1,0 +1,135 @@
+"""The package's layout: import arrows run one way, and no module imports itself round.
+
+Each subpackage's docstring says what it may import; this test holds the code to
+it, counting lazy imports inside functions too, so that a helper cannot creep
+into the wrong room unnoticed.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import dentopo
+
+PACKAGE = Path(dentopo.__file__).parent
+
+#: Subpackage -> the dentopo subpackages it may import (top-level private modules such as
+#: ``_version`` and ``_optional`` are allowed everywhere).  Keep in step with the docstrings.
+ALLOWED = {
+    "mesh": set(),
+    "sign": {"mesh"},
+    "ariadne": {"mesh", "sign"},
+    "topography": {"mesh"},
+    "figures": {"mesh", "sign", "ariadne", "topography"},
+    "formats": {"mesh", "ariadne", "topography", "figures"},
+    "batch": {"mesh", "sign", "ariadne", "topography", "formats"},
+    "study": {"mesh", "sign", "ariadne", "topography", "formats"},
+    "cli": {
+        "mesh",
+        "sign",
+        "ariadne",
+        "topography",
+        "figures",
+        "formats",
+        "batch",
+        "study",
+        "samples",
+    },
+    "samples": set(),
+}
+SUBPACKAGES = set(ALLOWED)
+
+
+def _modules() -> dict[str, Path]:
+    modules = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = list(path.relative_to(PACKAGE).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        modules[".".join(["dentopo", *parts])] = path
+    return modules
+
+
+def _imports(name: str, path: Path, *, lazy: bool) -> set[str]:
+    """Absolute names of the dentopo modules that module `name` imports."""
+    tree = ast.parse(path.read_text())
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    nodes = ast.walk(tree) if lazy else iter(tree.body)
+    found = set()
+    for node in nodes:
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.startswith("dentopo"):
+                found.add(target)
+                found.update(f"{target}.{alias.name}" for alias in node.names)
+        elif isinstance(node, ast.Import):
+            found.update(a.name for a in node.names if a.name.startswith("dentopo"))
+    return found
+
+
+def _subpackage(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] in SUBPACKAGES else None
+
+
+def test_every_subpackage_is_known_and_documented():
+    on_disk = {p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists()}
+    assert on_disk == SUBPACKAGES
+    for name in SUBPACKAGES:
+        doc = ast.get_docstring(ast.parse((PACKAGE / name / "__init__.py").read_text()))
+        assert doc, f"dentopo.{name} has no docstring"
+        if name not in ("samples", "cli"):
+            assert "May import" in doc, f"dentopo.{name}'s docstring does not say what it imports"
+
+
+@pytest.mark.parametrize("module", sorted(_modules()))
+def test_imports_run_one_way(module):
+    path = _modules()[module]
+    own = _subpackage(module)
+    if own is None:
+        return  # the top level: the public API (dentopo/__init__) and shared private helpers
+    wrong = set()
+    for target in _imports(module, path, lazy=True):
+        other = _subpackage(target)
+        if other is not None and other != own and other not in ALLOWED[own]:
+            wrong.add(target)
+        if target in ("dentopo", "dentopo.__init__"):
+            wrong.add(target)  # the public API sits above every subpackage
+    assert not wrong, f"{module} imports {sorted(wrong)} against the layering"
+
+
+def test_no_import_cycles():
+    modules = _modules()
+    graph = {
+        name: {t for t in _imports(name, path, lazy=True) if t in modules and t != name}
+        for name, path in modules.items()
+    }
+    # a package's __init__ re-exporting its own modules is not a cycle of concern
+    for name in graph:
+        graph[name] = {t for t in graph[name] if not name.startswith(t + ".")}
+    state: dict[str, int] = {}
+    stack: list[str] = []
+
+    def visit(node):
+        state[node] = 1
+        stack.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                cycle = [*stack[stack.index(nxt) :], nxt]
+                pytest.fail("import cycle: " + " -> ".join(cycle))
+            if nxt not in state:
+                visit(nxt)
+        stack.pop()
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node)
