@@ -76,7 +76,7 @@ examples:
   dentopo path/to/mesh.ply -v
   dentopo "scans/**/*.ply" -j 0 -o results.json --resume
   dentopo scans/ --per-vertex per_vertex/ -o results.csv
-  dentopo scans/*.ply -o - | sort -t, -k2 -g    # CSV on stdout, messages on stderr
+  dentopo scans/ -o - | cut -d, -f1,2           # CSV on stdout, messages on stderr
   dentopo scans/ --columns signdne -o DNEs.csv  # the published signDNE CLI's columns
   dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
 
