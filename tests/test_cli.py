@@ -193,7 +193,7 @@ def test_output_in_a_missing_directory_fails_before_computing(tmp_path, capsys, 
 @pytest.mark.parametrize(
     "options",
     [
-        ["-o", "out.xlsx"],
+        ["-o", "out.parquet"],
         ["--resume"],
         ["-b", "0"],
         ["-c", "1.5"],
@@ -207,7 +207,7 @@ def test_usage_errors_exit_2(tmp_path, capsys, options, monkeypatch):
     small_sphere(tmp_path / "a.ply")
     assert main(["a.ply", *options]) == 2
     assert capsys.readouterr().err.strip()
-    assert not (tmp_path / "out.xlsx").exists()
+    assert not (tmp_path / "out.parquet").exists()
 
 
 def test_papers_capitalised_distance_type(tmp_path, capsys):
@@ -258,10 +258,10 @@ def test_a_failed_write_keeps_the_old_output(tmp_path, capsys, monkeypatch):
     out = tmp_path / "out.csv"
     out.write_text("precious results\n")
 
-    def disk_full(value):
+    def disk_full(layout, value):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr("dentopo.formats._tables._csv_cell", disk_full)
+    monkeypatch.setattr("dentopo.formats._tables.Layout.text", disk_full)
     assert main([str(mesh), "-o", str(out)]) == 1
     assert "No space left" in capsys.readouterr().err
     assert out.read_text() == "precious results\n"
@@ -310,7 +310,7 @@ def test_per_vertex_files(tmp_path):
     assert (colors[convex, 0] > colors[convex, 2]).all()  # red where convex
     assert (colors[concave, 2] > colors[concave, 0]).all()  # blue where concave
     table = np.genfromtxt(out_dir / "molar.dentopo.csv", delimiter=",", names=True)
-    assert table.dtype.names == ("vertex", "x", "y", "z", "local_curvature", "local_dne")
+    assert table.dtype.names == ("vertex", "x", "y", "z", "local_curvature", "local_dne", "sign")
     assert np.array_equal(table["local_curvature"], result.local_curvature)
     # our own outputs are not taken for inputs the next time round
     assert main([str(tmp_path), "--per-vertex", str(out_dir), "-q"]) == 0

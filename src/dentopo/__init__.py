@@ -28,7 +28,7 @@ from .figures import (  # pyvista is imported only when a picture is drawn
     render_curvature,
     render_panel,
 )
-from .formats import COLUMNS
+from .formats import COLUMNS, read_per_vertex, read_table, write_per_vertex, write_table
 from .mesh import load_mesh
 from .sign import curvature_measure, curvature_measure_sign, measure_radius
 from .study import (
@@ -64,6 +64,8 @@ __all__ = [
     "load_mesh",
     "measure_radius",
     "perturb",
+    "read_per_vertex",
+    "read_table",
     "render_bandwidths",
     "render_comparison",
     "render_curvature",
@@ -71,6 +73,8 @@ __all__ = [
     "robustness_study",
     "sign_agreement",
     "to_dataframe",
+    "write_per_vertex",
     "write_study",
     "write_sweep",
+    "write_table",
 ]

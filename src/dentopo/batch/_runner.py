@@ -20,13 +20,20 @@ import threading
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 from functools import partial
 
 import numpy as np
 
 from ..ariadne import ariaDNE, check_distance_type, check_method, check_number
-from ..formats import COLUMNS, per_vertex_names, read_table, write_per_vertex
+from ..formats import (
+    COLUMNS,
+    DEFAULT_PER_VERTEX_FORMATS,
+    PerVertexOptions,
+    per_vertex_names,
+    read_table,
+    write_per_vertex,
+)
 from ..sign import check_sign_method
 from ._inputs import find_mesh_files
 
@@ -66,6 +73,7 @@ class Task:
     per_vertex_dir: str | None = None
     per_vertex_name: str | None = None
     keep_result: bool = False
+    per_vertex: PerVertexOptions = field(default_factory=PerVertexOptions)  # formats, colours
 
 
 @dataclass(frozen=True)
@@ -133,7 +141,15 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                 phases = None if on_phase is None else partial(on_phase, task.file)
                 result = ariaDNE(task.path, progress=phases, **settings.options())
                 if task.per_vertex_dir is not None:
-                    write_per_vertex(task.per_vertex_dir, task.per_vertex_name, result)
+                    options = task.per_vertex
+                    write_per_vertex(
+                        task.per_vertex_dir,
+                        task.per_vertex_name,
+                        result,
+                        formats=options.formats,
+                        limits=options.limits,
+                        percentile=options.percentile,
+                    )
             except Exception as exc:  # one bad file never stops the batch
                 seconds = round(time.perf_counter() - start, 4)
                 if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
@@ -271,11 +287,18 @@ def plan_batch(
     settings: Settings,
     *,
     per_vertex_dir: str | os.PathLike | None = None,
+    per_vertex: PerVertexOptions | None = None,
     keep_results: bool = False,
     absolute: bool = False,
 ) -> list[Task]:
-    """Tasks for `files` (in order): display names, paths to open, output names."""
+    """Tasks for `files` (in order): display names, paths to open, output names.
+
+    `per_vertex` says what the files in `per_vertex_dir` are written as
+    (formats, colour limits); by default PLY and CSV coloured at the 98th
+    percentile of each mesh's ``|local_curvature|``.
+    """
     names = per_vertex_names(files)
+    per_vertex = PerVertexOptions() if per_vertex is None else per_vertex
     directory = None if per_vertex_dir is None else os.path.abspath(os.fspath(per_vertex_dir))
     return [
         Task(
@@ -285,6 +308,7 @@ def plan_batch(
             per_vertex_dir=directory,
             per_vertex_name=name,
             keep_result=keep_results,
+            per_vertex=per_vertex,
         )
         for i, (file, name) in enumerate(zip(files, names, strict=True))
     ]
@@ -362,6 +386,9 @@ def compute_batch(
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
+    per_vertex_formats: str | Iterable[str] = DEFAULT_PER_VERTEX_FORMATS,
+    per_vertex_limits: float | tuple[float, float] | None = None,
+    per_vertex_percentile: float = 98.0,
     progress: ProgressCallback | None = None,
 ) -> list[dict]:
     """Compute ariaDNE for many mesh files; one record (a table row) per file.
@@ -390,8 +417,16 @@ def compute_batch(
         sign method, and method unless it is ``"auto"``) are not
         computed again, and the previous rows are kept in the result.
     per_vertex_dir : path-like, optional
-        Existing directory for each mesh's ``<name>.dentopo.ply`` and
-        ``<name>.dentopo.csv`` (see :func:`dentopo._output.write_per_vertex`).
+        Existing directory for each mesh's per-vertex files,
+        ``<name>.dentopo.<format>`` (see :func:`dentopo.write_per_vertex`).
+    per_vertex_formats : str or iterable of str, default ("ply", "csv")
+        Which per-vertex files: some of ``"ply"``, ``"vtp"``, ``"npz"``,
+        ``"csv"`` (or one comma-separated string).
+    per_vertex_limits : float or (float, float), optional
+        Fixed limits ``L`` or ``(-L, L)`` of the per-vertex colours, the same
+        for every mesh; by default each mesh's own `per_vertex_percentile`.
+    per_vertex_percentile : float, default 98
+        The colour limit's percentile of ``|local_curvature|`` otherwise.
     progress : callable, optional
         ``progress(done, total, record)``, called after each file.
 
@@ -438,6 +473,9 @@ def compute_batch(
     )
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
         raise ValueError(f"per_vertex_dir {os.fspath(per_vertex_dir)!r} is not a directory")
+    per_vertex = PerVertexOptions(
+        formats=per_vertex_formats, limits=per_vertex_limits, percentile=per_vertex_percentile
+    )
     previous: list[dict] = []
     if resume_from is not None:
         if isinstance(resume_from, (str, os.PathLike)):
@@ -448,7 +486,11 @@ def compute_batch(
     todo = [f for f in found.files if os.path.abspath(f) not in done]
 
     tasks = plan_batch(
-        todo, settings, per_vertex_dir=per_vertex_dir, absolute=scheduler is not None
+        todo,
+        settings,
+        per_vertex_dir=per_vertex_dir,
+        per_vertex=per_vertex,
+        absolute=scheduler is not None,
     )
     records: list[dict | None] = [None] * len(tasks)
     for count, outcome in enumerate(run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler)):

@@ -30,7 +30,17 @@ from ..batch import (
     resumable_files,
     run_tasks,
 )
-from ..formats import output_format, read_table, write_table
+from ..formats import (
+    DEFAULT_PER_VERTEX_FORMATS,
+    FORMATS,
+    LAYOUTS,
+    PER_VERTEX_FORMATS,
+    PerVertexOptions,
+    layout,
+    read_table,
+    table_format,
+    write_table,
+)
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
 
@@ -41,6 +51,9 @@ SCHEDULER_ENV = "DENTOPO_SCHEDULER"
 
 #: In plain-line progress, phases within a mesh are reported once it has taken this long.
 SLOW_MESH_SECONDS = 2.0
+
+#: ``-o -``: the table goes to stdout (as CSV).
+STDOUT = "-"
 
 #: Columns of the table printed on stdout when no --output is given.
 TABLE_COLUMNS = (
@@ -63,6 +76,8 @@ examples:
   dentopo path/to/mesh.ply -v
   dentopo "scans/**/*.ply" -j 0 -o results.json --resume
   dentopo scans/ --per-vertex per_vertex/ -o results.csv
+  dentopo scans/ -o - | cut -d, -f1,2           # CSV on stdout, messages on stderr
+  dentopo scans/ --columns signdne -o DNEs.csv  # the published signDNE CLI's columns
   dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
 
 inputs are files, directories (searched recursively for ply, obj, stl, off, glb,
@@ -140,7 +155,18 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     run.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     out = parser.add_argument_group("output")
     out.add_argument(
-        "-o", "--output", metavar="FILE", help="write the table to FILE (.csv or .json)"
+        "-o",
+        "--output",
+        metavar="FILE",
+        help=f"write the table to FILE ({', '.join(FORMATS)}; '-': CSV on stdout)",
+    )
+    out.add_argument(
+        "--columns",
+        type=str.lower,
+        choices=tuple(LAYOUTS),
+        default="dentopo",
+        help="the table's columns: dentopo (default, every column) or signdne (the published "
+        "signDNE CLI's File, DNE, positive_DNE, ...; failed files left out)",
     )
     out.add_argument(
         "--resume",
@@ -150,8 +176,15 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     out.add_argument(
         "--per-vertex",
         metavar="DIR",
-        help="write NAME.dentopo.ply (values as vertex properties and colours) and "
-        "NAME.dentopo.csv per mesh into DIR",
+        help="write each mesh's per-vertex values (local_curvature, local_dne, sign) and "
+        "colours into DIR as NAME.dentopo.<format>",
+    )
+    out.add_argument(
+        "--per-vertex-format",
+        action="append",
+        metavar="FORMAT",
+        help=f"per-vertex formats, repeatable or comma-separated: {', '.join(PER_VERTEX_FORMATS)} "
+        f"(default {','.join(DEFAULT_PER_VERTEX_FORMATS)})",
     )
     view = parser.add_argument_group("visualisation")
     view.add_argument(
@@ -267,6 +300,21 @@ def print_table(records: list[dict]) -> None:
         print(line.rstrip())
 
 
+def _print_layout(records: list[dict], columns) -> None:
+    """The table in another column layout (``--columns``), aligned, on stdout."""
+    cells = [list(columns.header)] + [
+        [columns.text(value) for value in row] for row in columns.rows(records)
+    ]
+    kinds = [column.kind for column in columns.columns]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(kinds))]
+    for row in cells:
+        line = "  ".join(
+            cell.ljust(w) if kind == "text" else cell.rjust(w)
+            for cell, w, kind in zip(row, widths, kinds, strict=True)
+        )
+        print(line.rstrip())
+
+
 def _rendering_requested(args) -> bool:
     return bool(args.visualize or args.screenshot or args.html or args.panel)
 
@@ -275,18 +323,29 @@ def _check_usage(args) -> str | None:
     """A usage problem with the options (before any file is read), or None."""
     if args.jobs < 0:
         return "--jobs must be 0 (all cores) or more"
-    if args.output is not None:
+    if args.output is not None and args.output != STDOUT:
         try:
-            output_format(args.output)
+            table_format(args.output).check_available()
         except ValueError as exc:
+            return str(exc)
+        except ImportError as exc:  # the format's optional dependency (openpyxl for .xlsx)
             return str(exc)
         directory = os.path.dirname(os.path.abspath(args.output))
         if not os.path.isdir(directory):
             return f"the output's directory {directory!r} does not exist (create it first)"
         if os.path.isdir(args.output):
-            return f"--output {args.output!r} is a directory; give a .csv or .json file"
+            return f"--output {args.output!r} is a directory; give a file ({', '.join(FORMATS)})"
     if args.resume and args.output is None:
         return "--resume needs --output (the table to resume)"
+    if args.resume and args.output == STDOUT:
+        return "--resume needs an --output file to resume, not '-' (stdout)"
+    if args.resume and not layout(args.columns).failed_rows:
+        return (
+            f"--resume matches rows by their settings columns (bandwidth, cutoff, ...), which "
+            f"--columns {args.columns} does not write; resume without --columns {args.columns}"
+        )
+    if args.per_vertex_format and args.per_vertex is None:
+        return "--per-vertex-format needs --per-vertex DIR"
     if args.per_vertex is not None and os.path.exists(args.per_vertex):
         if not os.path.isdir(args.per_vertex):
             return f"--per-vertex {args.per_vertex!r} exists and is not a directory"
@@ -376,6 +435,15 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     except (TypeError, ValueError) as exc:
         _say(str(exc))
         return 2
+    try:  # also checks --limits and --percentile before any work
+        per_vertex = PerVertexOptions(
+            formats=args.per_vertex_format or DEFAULT_PER_VERTEX_FORMATS,
+            limits=tuple(args.limits) if args.limits else None,
+            percentile=args.percentile,
+        )
+    except (TypeError, ValueError) as exc:
+        _say(str(exc))
+        return 2
 
     paths = list(args.paths)
     if args.samples:
@@ -423,6 +491,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         todo,
         settings,
         per_vertex_dir=args.per_vertex,
+        per_vertex=per_vertex,
         keep_results=rendering,
         absolute=scheduler is not None,
     )
@@ -450,7 +519,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     new = [outcomes[i].record for i in sorted(outcomes)]
     if interrupted:
         _say(f"interrupted: {len(new)} of {len(tasks)} files done; rerun with --resume to finish")
-        if args.output is not None and os.path.exists(args.output) and not previous:
+        if args.output not in (None, STDOUT) and os.path.exists(args.output) and not previous:
             try:  # keep the old rows of the files not reached, so that nothing is lost
                 previous = read_table(args.output)
             except (OSError, ValueError):
@@ -459,14 +528,28 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     mine = {os.path.abspath(f) for f in files}
     failed = sum(r["status"] != "ok" for r in records if os.path.abspath(r["file"]) in mine)
 
-    if args.output is not None:
+    columns = layout(args.columns)
+    if failed and not columns.failed_rows:
+        _say(f"{failed} failed file(s) left out of the table (--columns {columns.name})")
+    computed = any(r["status"] == "ok" for r in new)
+    if args.output == STDOUT:
+        write_table(sys.stdout, records, columns=columns)
+        sys.stdout.flush()
+    elif args.output is not None and not computed and os.path.exists(args.output):
+        if tasks:  # every file failed (or none was reached): keep the old table as it is
+            _say(f"no mesh was computed: {args.output} left as it was")
+        elif not args.quiet:
+            _say(f"every file was already done: {args.output} left as it was")
+    elif args.output is not None:
         try:
-            write_table(args.output, records)
+            written = write_table(args.output, records, columns=columns)
         except OSError as exc:
             _say(f"cannot write {args.output!r}: {exc}")
             return 1
         if not args.quiet:
-            _say(f"wrote {len(records)} rows to {args.output} ({failed} failed)")
+            _say(f"wrote {written} rows to {args.output} ({failed} failed)")
+    elif columns.name != "dentopo":
+        _print_layout(records, columns)
     else:
         print_table(records)
     if interrupted:

@@ -1,8 +1,9 @@
 """Output files: result tables and per-vertex files, each written atomically.
 
 ``_atomic`` (write to a temporary file, rename over the target), ``_tables``
-(the result table's columns; writers and readers by file extension),
-``_per_vertex`` (each mesh's cleaned vertices with their values).
+(the result table's column layouts and file formats, one registry each:
+:data:`LAYOUTS`, :data:`FORMATS`), ``_per_vertex`` (each mesh's cleaned
+vertices with their values, as PLY, VTP, NPZ or CSV, and reading them back).
 
 May import: :mod:`dentopo.ariadne` (the result's field names),
 :mod:`dentopo.figures` (the colour scale of per-vertex colours).  Nothing from
@@ -10,17 +11,51 @@ batch, study or cli.
 """
 
 from ._atomic import atomic_write
-from ._per_vertex import OUTPUT_SUFFIX, per_vertex_names, write_per_vertex
-from ._tables import COLUMNS, FORMATS, output_format, read_table, write_table
+from ._per_vertex import (
+    DEFAULT_PER_VERTEX_FORMATS,
+    OUTPUT_SUFFIX,
+    PER_VERTEX_FORMATS,
+    PerVertexOptions,
+    per_vertex_arrays,
+    per_vertex_formats,
+    per_vertex_names,
+    read_per_vertex,
+    write_per_vertex,
+)
+from ._tables import (
+    COLUMNS,
+    FORMATS,
+    LAYOUTS,
+    Column,
+    Layout,
+    TableFormat,
+    layout,
+    output_format,
+    read_table,
+    table_format,
+    write_table,
+)
 
 __all__ = [
     "COLUMNS",
+    "DEFAULT_PER_VERTEX_FORMATS",
     "FORMATS",
+    "LAYOUTS",
     "OUTPUT_SUFFIX",
+    "PER_VERTEX_FORMATS",
+    "Column",
+    "Layout",
+    "PerVertexOptions",
+    "TableFormat",
     "atomic_write",
+    "layout",
     "output_format",
+    "per_vertex_arrays",
+    "per_vertex_formats",
     "per_vertex_names",
+    "read_per_vertex",
     "read_table",
+    "table_format",
     "write_per_vertex",
     "write_table",
 ]

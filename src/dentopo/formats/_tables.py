@@ -1,9 +1,17 @@
-"""Output files: result tables (CSV, JSON) and per-vertex files (PLY, CSV).
+"""Result tables: column layouts and file formats, each found by name in one registry.
 
-Every file is written atomically: into a temporary file in the same
-directory, then renamed over the target with ``os.replace``, so that a run that
-fails or is interrupted never leaves a half-written file and never clobbers an
-existing one.  Tables can be read back (``--resume``) with their types.
+A table is written in a *layout* (which columns, under which names, in which
+order; :data:`LAYOUTS`) and a *format* (how the cells are stored; one
+:class:`TableFormat` per file suffix in :data:`FORMATS`).  Adding a format or a
+layout is one entry in these registries; :func:`write_table` and
+:func:`read_table` find them there.
+
+Every file is written atomically (a temporary file in the same directory,
+renamed over the target), so that a run that fails or is interrupted never
+leaves a half-written table and never clobbers an existing one.  Every format
+reads back with its types: numbers keep full double precision (the shortest
+text that reads back to the same float in CSV and TSV, real numbers in JSON
+and Excel), missing values are empty cells (``null`` in JSON).
 """
 
 from __future__ import annotations
@@ -12,28 +20,332 @@ import csv
 import json
 import math
 import os
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
 
+from .._optional import require
 from ..ariadne import SCALAR_FIELDS
 from ._atomic import atomic_write
 
 #: Columns of a results table, in order, with the library's names.
 COLUMNS = ("file", *SCALAR_FIELDS, "seconds", "status", "error")
 
-#: Output formats by file extension.
-FORMATS = {".csv": "csv", ".json": "json"}
-
 _INTEGER_COLUMNS = frozenset({"vertices", "faces"})
 _TEXT_COLUMNS = frozenset({"file", "distance_type", "sign_method", "method", "status", "error"})
 
 
-def output_format(path: str | os.PathLike) -> str:
-    """``"csv"`` or ``"json"`` from the extension of `path` (case-insensitive).
+@dataclass(frozen=True)
+class Column:
+    """One column of a layout.
+
+    Attributes
+    ----------
+    header : str
+        The column's name in the file.
+    key : str
+        The record key (one of :data:`COLUMNS`) whose value it holds.
+    kind : str
+        ``"text"``, ``"int"`` or ``"float"``: how a cell reads back.
+    """
+
+    header: str
+    key: str
+    kind: str
+
+
+def _kind(key: str) -> str:
+    if key in _TEXT_COLUMNS:
+        return "text"
+    return "int" if key in _INTEGER_COLUMNS else "float"
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Which columns a table has, under which names, and how numbers are written as text.
+
+    Attributes
+    ----------
+    name : str
+        The layout's name (``--columns NAME``).
+    columns : tuple of Column
+        The columns, in order.
+    required : tuple of str
+        Headers a file must have to be read as this layout.
+    decimals : int or None
+        In text formats (CSV, TSV), numbers with this many decimals
+        (``f"{x:.16f}"``); None writes the shortest text that reads back to
+        the same float (``repr``).  JSON and Excel always store the numbers.
+    failed_rows : bool
+        Whether rows of files that failed are written.  A layout without
+        them has no status column: every row it holds is ``ok``.
+    description : str
+        One line for ``--help``.
+    """
+
+    name: str
+    columns: tuple[Column, ...]
+    required: tuple[str, ...]
+    decimals: int | None = None
+    failed_rows: bool = True
+    description: str = ""
+
+    @property
+    def header(self) -> tuple[str, ...]:
+        """The column names, in order."""
+        return tuple(column.header for column in self.columns)
+
+    def rows(self, records: Iterable[dict]) -> list[list]:
+        """The cells of `records` in this layout (typed values; None for missing)."""
+        return [
+            [record.get(column.key) for column in self.columns]
+            for record in records
+            if self.failed_rows or record.get("status") == "ok"
+        ]
+
+    def text(self, value) -> str:
+        """A cell as text: empty for None, numbers by :attr:`decimals`."""
+        if value is None:
+            return ""
+        if isinstance(value, float):
+            return repr(value) if self.decimals is None else f"{value:.{self.decimals}f}"
+        return str(value)
+
+    def records(self, raw: Iterable[dict]) -> list[dict]:
+        """Rows read from a file (keyed by header) as typed records with every key of COLUMNS."""
+        records = []
+        for row in raw:
+            record = dict.fromkeys(COLUMNS)
+            if not self.failed_rows:
+                record["status"] = "ok"
+            for column in self.columns:
+                record[column.key] = _typed(column.kind, row.get(column.header))
+            records.append(record)
+        return records
+
+
+DENTOPO = Layout(
+    name="dentopo",
+    columns=tuple(Column(key, key, _kind(key)) for key in COLUMNS),
+    required=("file", "status"),
+    description="every column, with the library's names (the default; --resume reads it)",
+)
+
+#: The columns of the published signDNE 0.1.4 command line, in its order and with its names.
+SIGNDNE = Layout(
+    name="signdne",
+    columns=(
+        Column("File", "file", "text"),
+        Column("DNE", "dne", "float"),
+        Column("positive_DNE", "positive_dne", "float"),
+        Column("negative_DNE", "negative_dne", "float"),
+        Column("surface_area", "surface_area", "float"),
+        Column("positive_surface_area", "positive_surface_area", "float"),
+        Column("negative_surface_area", "negative_surface_area", "float"),
+    ),
+    required=(
+        "File",
+        "DNE",
+        "positive_DNE",
+        "negative_DNE",
+        "surface_area",
+        "positive_surface_area",
+        "negative_surface_area",
+    ),
+    decimals=16,
+    failed_rows=False,
+    description="the published signDNE 0.1.4 CLI's columns and number format; ok rows only",
+)
+
+#: Column layouts by name; :func:`read_table` recognises a file's layout by its header.
+LAYOUTS: dict[str, Layout] = {layout.name: layout for layout in (DENTOPO, SIGNDNE)}
+
+
+def layout(columns: str | Layout) -> Layout:
+    """The :class:`Layout` named `columns` (a Layout is returned as it is).
 
     Raises
     ------
     ValueError
-        For any other extension.
+        For a name not in :data:`LAYOUTS`.
+    """
+    if isinstance(columns, Layout):
+        return columns
+    if columns not in LAYOUTS:
+        raise ValueError(f"unknown columns {columns!r}: use one of {', '.join(LAYOUTS)}")
+    return LAYOUTS[columns]
+
+
+# --- formats ---------------------------------------------------------------------------------
+
+#: ``write(stream, header, rows, text)``: `rows` hold typed cells, `text` turns a cell into text.
+Writer = Callable[[object, Sequence[str], list[list], Callable[[object], str]], None]
+#: ``read(path) -> (header, rows)``: rows are dicts keyed by header, cells as stored.
+Reader = Callable[[str], tuple[list[str], list[dict]]]
+
+
+@dataclass(frozen=True)
+class TableFormat:
+    """How a table is stored in a file with one suffix.
+
+    Attributes
+    ----------
+    name : str
+        ``"csv"``, ``"tsv"``, ``"json"``, ``"xlsx"``.
+    suffix : str
+        The file suffix, with the dot, lower case.
+    binary : bool
+        Whether the file is written in binary mode (else UTF-8 text).
+    write : callable
+        ``write(stream, header, rows, text)``.
+    read : callable
+        ``read(path) -> (header, rows)``.
+    description : str
+        One line for the documentation.
+    requires : (module, extra, purpose), optional
+        An optional dependency the format needs (see :meth:`check_available`).
+    """
+
+    name: str
+    suffix: str
+    binary: bool
+    write: Writer
+    read: Reader
+    description: str = ""
+    requires: tuple[str, str, str] | None = None
+
+    def check_available(self) -> None:
+        """Raise :class:`~dentopo._optional.MissingExtraError` if its dependency is missing."""
+        if self.requires is not None:
+            module, extra, purpose = self.requires
+            require(module, extra=extra, purpose=purpose)
+
+
+def _delimited_writer(delimiter: str) -> Writer:
+    def write(stream, header, rows, text):
+        writer = csv.writer(stream, delimiter=delimiter, lineterminator="\n")
+        writer.writerow(header)
+        writer.writerows([text(cell) for cell in row] for row in rows)
+
+    return write
+
+
+def _delimited_reader(delimiter: str) -> Reader:
+    def read(path):
+        with open(path, encoding="utf-8", newline="") as stream:
+            reader = csv.DictReader(stream, delimiter=delimiter)
+            rows = list(reader)
+            return list(reader.fieldnames or ()), rows
+
+    return read
+
+
+def _json_value(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def _write_json(stream, header, rows, text) -> None:
+    data = [
+        {name: _json_value(cell) for name, cell in zip(header, row, strict=True)} for row in rows
+    ]
+    json.dump(data, stream, indent=1, ensure_ascii=False, allow_nan=False)
+    stream.write("\n")
+
+
+def _read_json(path):
+    with open(path, encoding="utf-8") as stream:
+        try:
+            raw = json.load(stream)
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{path!r} is not valid JSON: {exc}") from exc
+    if not isinstance(raw, list) or not all(isinstance(r, dict) for r in raw):
+        raise ValueError(f"{path!r} does not hold a list of result rows")
+    header = list(dict.fromkeys(key for row in raw for key in row))
+    return header, raw
+
+
+_OPENPYXL = ("openpyxl", "excel", "Excel tables")
+
+
+def _openpyxl():
+    module, extra, purpose = _OPENPYXL
+    return require(module, extra=extra, purpose=purpose)
+
+
+def _write_xlsx(stream, header, rows, text) -> None:
+    openpyxl = _openpyxl()
+    from openpyxl.cell.cell import ILLEGAL_CHARACTERS_RE, WriteOnlyCell
+
+    workbook = openpyxl.Workbook(write_only=True)
+    sheet = workbook.create_sheet("results")
+
+    def cell(value):
+        if isinstance(value, float) and math.isfinite(value):
+            # openpyxl writes numbers as "%.16g", which loses the last digit of some doubles:
+            # give it the shortest exact text (repr) and mark the cell numeric.
+            item = WriteOnlyCell(sheet, value=repr(value))
+            item.data_type = "n"
+            return item
+        if isinstance(value, float):  # Excel has no inf or nan: keep them as text
+            return WriteOnlyCell(sheet, value=repr(value))
+        if isinstance(value, str):
+            item = WriteOnlyCell(sheet, value=ILLEGAL_CHARACTERS_RE.sub("\ufffd", value))
+            item.data_type = "s"  # a text starting with "=" is text, not a formula
+            return item
+        return WriteOnlyCell(sheet, value=value)
+
+    sheet.append([cell(name) for name in header])
+    for row in rows:
+        sheet.append([cell(value) for value in row])
+    workbook.save(stream)
+
+
+def _read_xlsx(path):
+    openpyxl = _openpyxl()
+    try:
+        workbook = openpyxl.load_workbook(path, read_only=True, data_only=True)
+    except Exception as exc:  # zipfile, XML and openpyxl errors: not a workbook we can read
+        raise ValueError(f"{path!r} is not an Excel workbook: {exc}") from exc
+    try:
+        lines = list(workbook.worksheets[0].iter_rows(values_only=True))
+    finally:
+        workbook.close()
+    if not lines:
+        return [], []
+    names = [None if name is None else str(name) for name in lines[0]]
+    rows = [
+        {name: value for name, value in zip(names, line, strict=False) if name is not None}
+        for line in lines[1:]
+        if any(value is not None for value in line)
+    ]
+    return [name for name in names if name is not None], rows
+
+
+#: Table formats by file suffix (lower case, with the dot).
+FORMATS: dict[str, TableFormat] = {
+    fmt.suffix: fmt
+    for fmt in (
+        TableFormat(
+            "csv", ".csv", False, _delimited_writer(","), _delimited_reader(","), "comma-separated"
+        ),
+        TableFormat(
+            "tsv", ".tsv", False, _delimited_writer("\t"), _delimited_reader("\t"), "tab-separated"
+        ),
+        TableFormat("json", ".json", False, _write_json, _read_json, "a list of objects"),
+        TableFormat("xlsx", ".xlsx", True, _write_xlsx, _read_xlsx, "an Excel workbook", _OPENPYXL),
+    )
+}
+_BY_NAME = {fmt.name: fmt for fmt in FORMATS.values()}
+
+
+def table_format(path: str | os.PathLike) -> TableFormat:
+    """The :class:`TableFormat` for the suffix of `path` (case-insensitive).
+
+    Raises
+    ------
+    ValueError
+        For a suffix not in :data:`FORMATS`.
     """
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in FORMATS:
@@ -44,83 +356,131 @@ def output_format(path: str | os.PathLike) -> str:
     return FORMATS[ext]
 
 
-def _csv_cell(value) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return repr(value)  # shortest string that reads back to the same float
-    return str(value)
-
-
-def _json_value(value):
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
-def write_table(path: str | os.PathLike, records: Iterable[dict]) -> None:
-    """Write result records to a CSV or JSON file (format from the extension), atomically.
-
-    Parameters
-    ----------
-    path : str or path-like
-        ``.csv``: a header row with :data:`COLUMNS`, missing values empty.
-        ``.json``: a list of objects with the same keys, missing values null.
-    records : iterable of dict
-        Rows with (at least) the keys in :data:`COLUMNS`.
-    """
-    fmt = output_format(path)
-    rows = [{name: record.get(name) for name in COLUMNS} for record in records]
-
-    def write(stream):
-        if fmt == "csv":
-            writer = csv.writer(stream, lineterminator="\n")
-            writer.writerow(COLUMNS)
-            writer.writerows([_csv_cell(row[name]) for name in COLUMNS] for row in rows)
-        else:
-            data = [{k: _json_value(v) for k, v in row.items()} for row in rows]
-            json.dump(data, stream, indent=1, ensure_ascii=False, allow_nan=False)
-            stream.write("\n")
-
-    atomic_write(path, write)
-
-
-def _typed(name: str, text):
-    if text is None or text == "":
-        return None
-    if name in _TEXT_COLUMNS:
-        return str(text)
-    if name in _INTEGER_COLUMNS:
-        return int(text)
-    return float(text)
-
-
-def read_table(path: str | os.PathLike) -> list[dict]:
-    """Read a table written by :func:`write_table` back into typed records.
+def output_format(path: str | os.PathLike) -> str:
+    """The name of the format of `path` from its suffix: ``"csv"``, ``"tsv"``, ``"json"``, ...
 
     Raises
     ------
     ValueError
-        If the file is not such a table (wrong format or missing columns).
+        For any other extension.
+    """
+    return table_format(path).name
+
+
+def write_table(
+    path, records: Iterable[dict], *, columns: str | Layout = "dentopo", format: str | None = None
+) -> int:
+    """Write result records as a table, atomically; the format comes from the suffix.
+
+    Parameters
+    ----------
+    path : str, path-like or text stream
+        A file whose suffix picks the format (:data:`FORMATS`: ``.csv``,
+        ``.tsv``, ``.json``, ``.xlsx``), or an open text stream (such as
+        ``sys.stdout``), written as CSV unless `format` says otherwise.
+    records : iterable of dict
+        Rows with (at least) the keys in :data:`COLUMNS`; not modified.
+    columns : str or Layout, default "dentopo"
+        The layout (:data:`LAYOUTS`): ``"dentopo"``, every column of
+        :data:`COLUMNS`; ``"signdne"``, the published signDNE CLI's columns
+        (``File, DNE, positive_DNE, ...``, numbers with 16 decimals in text
+        formats, failed rows left out).
+    format : str, optional
+        ``"csv"``, ``"tsv"``, ``"json"`` or ``"xlsx"``, overriding the suffix.
+
+    Returns
+    -------
+    int
+        The number of rows written (failed rows are left out by layouts
+        without a status column).
+
+    Raises
+    ------
+    ValueError
+        For an unknown suffix, format or layout, or a binary format (xlsx)
+        asked of a text stream.
+    dentopo.MissingExtraError
+        For ``.xlsx`` without openpyxl (``pip install 'dentopo[excel]'``).
+    """
+    chosen = layout(columns)
+    stream = path if hasattr(path, "write") else None
+    if format is not None:
+        if format not in _BY_NAME:
+            raise ValueError(f"unknown table format {format!r}: use one of {', '.join(_BY_NAME)}")
+        fmt = _BY_NAME[format]
+    else:
+        fmt = _BY_NAME["csv"] if stream is not None else table_format(path)
+    rows = chosen.rows(records)
+
+    def write(target):
+        fmt.write(target, chosen.header, rows, chosen.text)
+
+    if stream is not None:
+        if fmt.binary:
+            raise ValueError(f"{fmt.name} tables are written to files, not to a text stream")
+        write(stream)
+    else:
+        fmt.check_available()  # a missing extra fails before the temporary file is made
+        atomic_write(path, write, binary=fmt.binary)
+    return len(rows)
+
+
+def _typed(kind: str, value):
+    if value is None or value == "":
+        return None
+    if kind == "text":
+        return str(value)
+    if kind == "int":
+        if isinstance(value, float) and not value.is_integer():
+            raise ValueError(f"{value!r} is not a whole number")
+        return int(value)
+    return float(value)
+
+
+def _detect(header: Sequence[str], path: str) -> Layout:
+    names = set(header)
+    for candidate in LAYOUTS.values():
+        if all(name in names for name in candidate.required):
+            return candidate
+    wanted = " or ".join(f"({', '.join(c.required)})" for c in LAYOUTS.values())
+    raise ValueError(f"{path!r} is not a dentopo results table (it needs the columns {wanted})")
+
+
+def read_table(path: str | os.PathLike, *, columns: str | Layout | None = None) -> list[dict]:
+    """Read a table written by :func:`write_table` back into typed records.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A ``.csv``, ``.tsv``, ``.json`` or ``.xlsx`` table.
+    columns : str or Layout, optional
+        The layout; by default recognised from the header (a table of the
+        published signDNE CLI reads too).
+
+    Returns
+    -------
+    list of dict
+        One record per row with every key of :data:`COLUMNS` (None where the
+        layout has no such column); text columns as str, ``vertices`` and
+        ``faces`` as int, the other numbers as float.  Rows of a layout
+        without a status column have ``status="ok"``.
+
+    Raises
+    ------
+    ValueError
+        If the file is not such a table (wrong format, missing columns or a
+        malformed value).
     """
     path = os.fspath(path)
-    fmt = output_format(path)
-    with open(path, encoding="utf-8", newline="") as stream:
-        if fmt == "csv":
-            raw = list(csv.DictReader(stream))
-            header = set(raw[0]) if raw else set(COLUMNS)
-        else:
-            try:
-                raw = json.load(stream)
-            except json.JSONDecodeError as exc:
-                raise ValueError(f"{path!r} is not valid JSON: {exc}") from exc
-            if not isinstance(raw, list) or not all(isinstance(r, dict) for r in raw):
-                raise ValueError(f"{path!r} does not hold a list of result rows")
-            header = set().union(*raw) if raw else set(COLUMNS)
-    missing = [name for name in ("file", "status") if name not in header]
+    fmt = table_format(path)
+    header, raw = fmt.read(path)
+    if not header and not raw:  # an empty file: a table with no rows
+        return []
+    chosen = _detect(header, path) if columns is None else layout(columns)
+    missing = [name for name in chosen.required if name not in header]
     if missing:
-        raise ValueError(f"{path!r} is not a dentopo results table (no {', '.join(missing)})")
+        raise ValueError(f"{path!r} is not a {chosen.name} results table (no {', '.join(missing)})")
     try:
-        return [{name: _typed(name, row.get(name)) for name in COLUMNS} for row in raw]
+        return chosen.records(raw)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{path!r} has a malformed value: {exc}") from exc
