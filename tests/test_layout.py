@@ -42,6 +42,12 @@ ALLOWED = {
 }
 SUBPACKAGES = set(ALLOWED)
 
+#: Public modules at the top level (``dentopo.NAME``) -> the subpackages they may import.  Each
+#: sits beside the public API, above nothing: no subpackage may import it.
+TOP_LEVEL = {
+    "compat": {"mesh", "ariadne"},  # the signDNE 0.1.4 drop-in, over ariaDNE only
+}
+
 
 def _modules() -> dict[str, Path]:
     modules = {}
@@ -104,6 +110,40 @@ def test_imports_run_one_way(module):
         if target in ("dentopo", "dentopo.__init__"):
             wrong.add(target)  # the public API sits above every subpackage
     assert not wrong, f"{module} imports {sorted(wrong)} against the layering"
+
+
+def _top_level_modules() -> set[str]:
+    """Public top-level modules (not ``__init__``/``__main__``, not private helpers)."""
+    return {p.stem for p in PACKAGE.glob("*.py") if not p.stem.startswith("_")}
+
+
+def test_every_top_level_module_has_a_rule():
+    assert _top_level_modules() == set(TOP_LEVEL)
+
+
+@pytest.mark.parametrize("name", sorted(TOP_LEVEL))
+def test_top_level_modules_import_only_what_their_rule_allows(name):
+    module = f"dentopo.{name}"
+    path = PACKAGE / f"{name}.py"
+    doc = ast.get_docstring(ast.parse(path.read_text()))
+    assert doc and "May import" in doc, f"{module}'s docstring does not say what it imports"
+    wrong = set()
+    for target in _imports(module, path, lazy=True):
+        other = _subpackage(target)
+        if other is not None and other not in TOP_LEVEL[name]:
+            wrong.add(target)
+        if other is None and target not in ("dentopo._version", "dentopo._optional"):
+            wrong.add(target)  # the public API, or another top-level module
+    assert not wrong, f"{module} imports {sorted(wrong)} against its rule"
+
+
+@pytest.mark.parametrize("module", sorted(_modules()))
+def test_nothing_below_imports_a_top_level_module(module):
+    if _subpackage(module) is None:
+        return
+    targets = _imports(module, _modules()[module], lazy=True)
+    wrong = {t for t in targets if len(t.split(".")) > 1 and t.split(".")[1] in TOP_LEVEL}
+    assert not wrong, f"{module} imports {sorted(wrong)}: top-level modules sit above it"
 
 
 def test_no_import_cycles():

@@ -93,8 +93,11 @@ def ariaDNE(  # noqa: N802 -- the paper's name
     Parameters
     ----------
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        A triangle mesh.  A path is read with ``trimesh.load`` defaults; arrays
-        are used as given (no vertex merging).  Never modified.
+        A triangle mesh.  A path is read with :func:`dentopo.mesh.load_mesh`
+        (trimesh's reader, duplicate vertices merged, in world coordinates); a
+        file holding several meshes raises, so pick one with
+        ``ariaDNE(load_mesh(path, geometry=NAME))``.  Arrays are used as given
+        (no vertex merging).  Never modified.
     bandwidth : float, default 0.08
         Gaussian kernel bandwidth ``h`` on the unit-area scale; weights are
         ``exp(-d**2 / h**2)``.  Larger values measure coarser features.

@@ -34,6 +34,7 @@ from ..formats import (
     read_table,
     write_per_vertex,
 )
+from ..mesh import check_geometry, load_mesh
 from ..sign import check_sign_method
 from ._inputs import find_mesh_files
 
@@ -47,8 +48,10 @@ _MAX_REASON = 500
 class Settings:
     """What every mesh of a batch is computed with.
 
-    Every field but ``threads`` is an ``ariaDNE`` keyword and an output column:
-    a row is only reused by ``--resume`` if all of them match.
+    Every field but ``threads`` and ``geometry`` is an ``ariaDNE`` keyword and an
+    output column: a row is only reused by ``--resume`` if all of them match.
+    ``geometry`` is how each file is read (:func:`dentopo.mesh.load_mesh`); it
+    is not a column, so rows are only reused when it is None.
     """
 
     bandwidth: float = 0.08
@@ -57,10 +60,15 @@ class Settings:
     sign_method: str = "centroid"
     method: str = "auto"
     threads: int | None = None  # numba threads per mesh; None: numba's default
+    geometry: str | None = None  # which mesh of a file holding several (load_mesh)
 
     def options(self) -> dict:
         """The ``ariaDNE`` keyword arguments."""
-        return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "threads"}
+        return {
+            f.name: getattr(self, f.name)
+            for f in fields(self)
+            if f.name not in ("threads", "geometry")
+        }
 
 
 @dataclass(frozen=True)
@@ -139,7 +147,10 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
             warnings.simplefilter("always")
             try:
                 phases = None if on_phase is None else partial(on_phase, task.file)
-                result = ariaDNE(task.path, progress=phases, **settings.options())
+                mesh = task.path
+                if settings.geometry is not None:
+                    mesh = load_mesh(task.path, geometry=settings.geometry)
+                result = ariaDNE(mesh, progress=phases, **settings.options())
                 if task.per_vertex_dir is not None:
                     options = task.per_vertex
                     write_per_vertex(
@@ -260,10 +271,11 @@ def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
     """Files (as absolute paths) with an ``ok`` row computed with these settings.
 
     With ``method="auto"`` a row computed by either method counts (auto may
-    pick either); otherwise the recorded method must match.
+    pick either); otherwise the recorded method must match.  With a
+    ``geometry`` no row counts: the table does not record which mesh was read.
     """
     done = set()
-    wanted = settings.options()
+    wanted = {**settings.options(), "geometry": settings.geometry}
     if wanted["method"] == "auto":
         del wanted["method"]
     for record in previous:
@@ -341,6 +353,7 @@ def make_settings(
     sign_method: str = "centroid",
     method: str = "auto",
     threads: int | None = None,
+    geometry: str | None = None,
 ) -> Settings:
     """Validated batch settings (the same checks as ``ariaDNE``, made once up front).
 
@@ -364,6 +377,7 @@ def make_settings(
         sign_method=check_sign_method(sign_method),
         method=check_method(method),
         threads=threads,
+        geometry=check_geometry(geometry),
     )
 
 
@@ -383,6 +397,7 @@ def compute_batch(
     method: str = "auto",
     jobs: int = 1,
     threads: int | None = None,
+    geometry: str | None = None,
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -406,6 +421,12 @@ def compute_batch(
     threads : int, optional
         numba threads per mesh.  By default numba's own choice when one mesh
         runs at a time, and the cores shared out when several do.
+    geometry : str, optional
+        For files that hold several meshes (GLB/glTF, 3MF, OBJ with several
+        objects): the name of the one to measure, or ``"all"`` to join them
+        into one surface (see :func:`dentopo.load_mesh`).  By default such a
+        file gets an error row listing its meshes; a file without a mesh of
+        that name gets an error row too.  Rows are then not resumed.
     scheduler : str or distributed.Client, optional
         Address of a Dask distributed scheduler (``"tcp://host:8786"``) or a
         client: run on that cluster instead of local processes (``jobs`` is
@@ -470,6 +491,7 @@ def compute_batch(
         sign_method=sign_method,
         method=method,
         threads=threads,
+        geometry=geometry,
     )
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
         raise ValueError(f"per_vertex_dir {os.fspath(per_vertex_dir)!r} is not a directory")

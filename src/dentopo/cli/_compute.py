@@ -141,6 +141,13 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help="kernel sums: exact, fast (FFT-based, for large meshes) or auto (default: "
         "fast from 20,000 vertices)",
     )
+    compute.add_argument(
+        "--geometry",
+        metavar="NAME",
+        help="in files holding several meshes (GLB, glTF, 3MF, OBJ objects), measure the one "
+        "named NAME, or 'all' joined into one surface (default: such a file is an error row "
+        "listing its meshes)",
+    )
     run = parser.add_argument_group("running")
     run.add_argument(
         "-j", "--jobs", type=int, default=1, metavar="N", help="worker processes (0: all cores)"
@@ -431,6 +438,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             distance_type=args.distance_type,
             sign_method=args.sign_method,
             method=args.method,
+            geometry=args.geometry,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
@@ -481,6 +489,8 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     done = set() if rendering else resumable_files(previous, settings)  # drawing needs results
     todo = [f for f in files if os.path.abspath(f) not in done]
     if args.resume and not args.quiet:
+        if args.geometry is not None:  # the table does not record it: nothing can be reused
+            _say("--geometry: the table does not record which mesh was read; computing every file")
         _say(f"resuming: {len(files) - len(todo)} of {len(files)} files already done")
 
     if args.per_vertex is not None:

@@ -18,7 +18,7 @@ from ._prepare import (
     vertex_areas,
     vertex_normals,
 )
-from ._read import as_arrays, load_mesh
+from ._read import as_arrays, check_geometry, load_mesh
 from ._spatial import spatial_order
 from ._topology import boundary_edges, close_holes, orient_consistently, outward_faces
 
@@ -27,6 +27,7 @@ __all__ = [
     "PreparedMesh",
     "as_arrays",
     "boundary_edges",
+    "check_geometry",
     "clean",
     "close_holes",
     "load_mesh",

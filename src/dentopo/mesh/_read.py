@@ -2,33 +2,190 @@
 
 from __future__ import annotations
 
+import inspect
 import os
+from dataclasses import dataclass
 
 import numpy as np
 import trimesh
 
+#: ``geometry=ALL``: every mesh of a file, joined into one surface.
+ALL = "all"
 
-def load_mesh(path: str | os.PathLike) -> trimesh.Trimesh:
-    """Read a triangle mesh from a file as ``trimesh.load`` does by default.
+#: Geometries listed by name in an error message, at most.
+_LISTED = 12
+
+
+def check_geometry(geometry) -> str | None:
+    """Validate the ``geometry`` option of :func:`load_mesh` (None, ``"all"`` or a name).
+
+    Raises
+    ------
+    TypeError
+        If it is neither None nor a string.
+    ValueError
+        If it is an empty (or blank) string.
+    """
+    if geometry is None:
+        return None
+    if not isinstance(geometry, str):
+        raise TypeError(
+            f"geometry must be a name (str), 'all' or None; got {type(geometry).__name__}"
+        )
+    if not geometry.strip():
+        raise ValueError("geometry must be a non-empty name, or 'all'")
+    return geometry
+
+
+def _obj_options() -> dict:
+    """How OBJ files are read: one geometry per object (``o``), whatever its materials.
+
+    trimesh's default merges all objects without materials into one mesh (two
+    specimens would be measured as one) and splits one object into several
+    meshes where its material changes (one surface torn in pieces).  From trimesh
+    4.10 on, ``split_objects`` and ``group_material=False`` give exactly one
+    geometry per object.  Older versions lack ``split_objects``: there
+    ``group_material=False`` keeps objects apart but still splits at material
+    changes, so such a surface needs ``geometry="all"`` (which joins it again).
+    """
+    from trimesh.exchange import obj
+
+    options = {"group_material": False}
+    if "split_objects" in inspect.signature(obj.load_obj).parameters:
+        options["split_objects"] = True
+    return options
+
+
+@dataclass(frozen=True)
+class _Instance:
+    """One placement of a triangle mesh in a file's scene graph."""
+
+    node: str
+    name: str  # the geometry's name
+    transform: np.ndarray
+    mesh: trimesh.Trimesh
+
+    def world(self) -> trimesh.Trimesh:
+        """The mesh in world coordinates: its scene-graph transform applied (to a copy)."""
+        if np.array_equal(self.transform, np.eye(4)):
+            return self.mesh
+        return self.mesh.copy().apply_transform(self.transform)
+
+
+def _instances(scene: trimesh.Scene) -> list[_Instance]:
+    """Every placement of a triangle mesh in `scene`, sorted by geometry name and node."""
+    found = []
+    for node in scene.graph.nodes_geometry:
+        transform, name = scene.graph[node]
+        mesh = scene.geometry.get(name)
+        if isinstance(mesh, trimesh.Trimesh):
+            found.append(_Instance(str(node), str(name), np.asarray(transform), mesh))
+    return sorted(found, key=lambda i: (i.name, i.node))
+
+
+def _selectors(instances: list[_Instance]) -> list[str]:
+    """The ``geometry=`` value that selects each instance: its geometry, or its node if shared."""
+    placed: dict[str, int] = {}
+    for instance in instances:
+        placed[instance.name] = placed.get(instance.name, 0) + 1
+    return [i.name if placed[i.name] == 1 else i.node for i in instances]
+
+
+def _listing(instances: list[_Instance]) -> str:
+    """The instances as a message lists them: selector and face count."""
+    labels = [
+        f"{selector!r} ({len(i.mesh.faces)} faces)"
+        if selector == i.name
+        else f"node {selector!r} of {i.name!r} ({len(i.mesh.faces)} faces)"
+        for selector, i in zip(_selectors(instances), instances, strict=True)
+    ]
+    if len(labels) > _LISTED:
+        labels = [*labels[:_LISTED], f"and {len(labels) - _LISTED} more"]
+    return ", ".join(labels)
+
+
+def _join(instances: list[_Instance]) -> trimesh.Trimesh:
+    """Every instance in world coordinates as one mesh, coincident vertices merged.
+
+    Merging rejoins a surface that the file stores in pieces (by material, or as
+    several glTF primitives); meshes that share no vertex stay apart.
+    """
+    pieces = [i.world() for i in instances]
+    joined = trimesh.util.concatenate(pieces) if len(pieces) > 1 else pieces[0]
+    return trimesh.Trimesh(vertices=joined.vertices, faces=joined.faces, process=True)
+
+
+def _choose(path: str, instances: list[_Instance], geometry: str | None) -> trimesh.Trimesh:
+    """The mesh `geometry` asks for, in world coordinates (see :func:`load_mesh`)."""
+    if geometry == ALL:
+        return _join(instances)
+    if geometry is None:
+        if len(instances) == 1:
+            return instances[0].world()
+        example = _selectors(instances)[0]
+        raise ValueError(
+            f"{path!r} holds {len(instances)} meshes: {_listing(instances)}; dentopo does "
+            f"not choose one for you: read one with load_mesh(path, geometry={example!r}) "
+            f"(command line: --geometry {example}), or join them all into one surface with "
+            "geometry='all' (--geometry all)"
+        )
+    chosen = [i for i in instances if i.name == geometry]
+    if len(chosen) > 1:
+        nodes = ", ".join(repr(i.node) for i in chosen)
+        raise ValueError(
+            f"{path!r}: the geometry {geometry!r} is placed {len(chosen)} times "
+            f"(nodes {nodes}); choose one placement by its node name"
+        )
+    if not chosen:
+        chosen = [i for i in instances if i.node == geometry]
+    if not chosen:
+        raise ValueError(
+            f"{path!r} has no geometry named {geometry!r}; it holds "
+            f"{len(instances)}: {_listing(instances)}"
+        )
+    return chosen[0].world()
+
+
+def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimesh.Trimesh:
+    """Read a triangle mesh from a file, in world coordinates.
+
+    Formats such as GLB/glTF, 3MF and OBJ can hold several meshes (a scene);
+    a mesh is never picked from several silently.
 
     Parameters
     ----------
     path : str or path-like
         A file in any format trimesh reads (PLY, OBJ, STL, OFF, GLB, ...).
-        Scenes with several meshes are concatenated.
+    geometry : str, optional
+        Which mesh of the file to read.  By default the file must hold exactly
+        one (placed once); several raise a ``ValueError`` that lists their names
+        and face counts.  A name selects that geometry (or, for a geometry
+        placed several times, that scene-graph node); ``"all"`` joins every
+        mesh into one surface, coincident vertices merged.  Each placement of a
+        geometry counts as one mesh.  In an OBJ file each object (``o``) is one
+        geometry, whatever its materials.
 
     Returns
     -------
     trimesh.Trimesh
-        The mesh, with duplicate vertices merged (trimesh's default).
+        The mesh, with its scene-graph transform applied (world coordinates)
+        and duplicate vertices merged (trimesh's default).
 
     Raises
     ------
     FileNotFoundError
         If the file does not exist.
     ValueError
-        If the file cannot be read, or holds no triangle mesh.
+        If the file cannot be read, holds no triangle mesh, holds several and
+        `geometry` does not say which, or has no geometry of that name.
+
+    Examples
+    --------
+    >>> from dentopo import ariaDNE, load_mesh
+    >>> crown = load_mesh("scan.glb", geometry="crown")  # doctest: +SKIP
+    >>> ariaDNE(load_mesh("scan.glb", geometry="all")).dne  # doctest: +SKIP
     """
+    geometry = check_geometry(geometry)
     path = os.fspath(path)
     if not os.path.exists(path):
         raise FileNotFoundError(f"mesh file not found: {path!r}")
@@ -36,22 +193,20 @@ def load_mesh(path: str | os.PathLike) -> trimesh.Trimesh:
         raise ValueError(f"{path!r} is a directory, not a mesh file")
     if os.path.getsize(path) == 0:
         raise ValueError(f"mesh file is empty: {path!r}")
+    options = _obj_options() if os.path.splitext(path)[1].lower() == ".obj" else {}
     try:
-        loaded = trimesh.load(path)
+        scene = trimesh.load(path, force="scene", **options)
     except PermissionError:
         raise
     except Exception as exc:  # trimesh raises many types for corrupt files
         raise ValueError(f"could not read mesh file {path!r}: {exc}") from exc
-    if isinstance(loaded, trimesh.Scene):
-        geometries = [g for g in loaded.geometry.values() if isinstance(g, trimesh.Trimesh)]
-        if not geometries:
+    instances = _instances(scene)
+    if not instances:
+        kinds = sorted({type(g).__name__ for g in scene.geometry.values()})
+        if not kinds:
             raise ValueError(f"{path!r} holds no triangle mesh")
-        loaded = geometries[0] if len(geometries) == 1 else trimesh.util.concatenate(geometries)
-    if not isinstance(loaded, trimesh.Trimesh):
-        raise ValueError(
-            f"{path!r} holds a {type(loaded).__name__}, not a triangle mesh (no faces)"
-        )
-    return loaded
+        raise ValueError(f"{path!r} holds no triangle mesh, only {' and '.join(kinds)} (no faces)")
+    return _choose(path, instances, geometry)
 
 
 def as_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:

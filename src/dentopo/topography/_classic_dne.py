@@ -256,8 +256,9 @@ def classic_dne(
     The computation and all its conventions are molaR's (``DNE()`` with
     ``BoundaryDiscard``, ``outliers``, ``kappa`` and ``oex``):
 
-    1. **Mesh.** Files are read with ``trimesh.load`` defaults (duplicate
-       vertices merged, as molaR's reader does); arrays and meshes are used as
+    1. **Mesh.** Files are read with :func:`dentopo.mesh.load_mesh` (duplicate
+       vertices merged, as molaR's reader does; a file holding several meshes
+       raises: pass ``load_mesh(path, geometry=NAME)``); arrays and meshes are used as
        given, after dropping unreferenced vertices.  No other cleaning, no
        re-orientation of faces.  The caller's mesh is never modified.
     2. **Size normalisation.** All coordinates are multiplied by
