@@ -2,7 +2,8 @@
 
 ``_main`` dispatches to a subcommand or the main command; ``_compute`` is the
 main command (a table with one row per mesh); ``_study`` the ``robustness`` and
-``sweep`` subcommands.  Only this subpackage prints or exits.
+``sweep`` subcommands.  Only this subpackage prints or exits.  A missing extra
+ends as one line naming it, with exit code 2.
 
 May import: every other subpackage of dentopo; nothing imports it.
 """

@@ -6,7 +6,8 @@ the table (:mod:`dentopo.formats`) and, if asked, draws the curvature
 prints: results to stdout or files, messages and progress to stderr.
 
 Exit codes: 0 all files ok; 1 some file failed (or the display is unavailable);
-2 usage error (including "no mesh files found"); 130 interrupted.
+2 usage error (including "no mesh files found" and a missing extra, checked
+before any file is computed); 130 interrupted.
 """
 
 from __future__ import annotations
@@ -18,11 +19,13 @@ import shutil
 import sys
 import time
 
+from .._optional import PICTURES, MissingExtraError
 from .._version import __version__
 from ..ariadne import METHODS
 from ..batch import (
     Outcome,
     available_cores,
+    check_extras,
     find_mesh_files,
     make_settings,
     merge_records,
@@ -75,7 +78,8 @@ vertices, faces, bandwidth, cutoff, distance_type, sign_method, method,
 seconds, status, error
 
 exit codes: 0 all files ok, 1 some file failed, 2 usage error (also: no mesh
-files found), 130 interrupted (rows already done are kept).
+files found, or an extra the options need is not installed), 130 interrupted
+(rows already done are kept).
 """
 
 
@@ -155,7 +159,12 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     )
     view = parser.add_argument_group("visualisation")
     view.add_argument(
-        "-v", "--visualize", action="store_true", help="show the mesh in a window (one input)"
+        "--show",
+        "-v",
+        "--visualize",
+        dest="show",
+        action="store_true",
+        help="show the mesh in a window (one input; -v and --visualize are aliases)",
     )
     view.add_argument("--screenshot", metavar="PNG", help="save a picture, off-screen (one input)")
     view.add_argument("--html", metavar="FILE", help="save an interactive HTML view (one input)")
@@ -268,7 +277,7 @@ def print_table(records: list[dict]) -> None:
 
 
 def _rendering_requested(args) -> bool:
-    return bool(args.visualize or args.screenshot or args.html or args.panel)
+    return bool(args.show or args.screenshot or args.html or args.panel)
 
 
 def _check_usage(args) -> str | None:
@@ -297,6 +306,24 @@ def _check_usage(args) -> str | None:
     return None
 
 
+def _missing_extra(args, settings, scheduler) -> str | None:
+    """The one-line message if an extra the options need is not installed, or None.
+
+    Checked before any file is read (cheap: nothing is imported).  HTML pages
+    need no extra; ``--method fast`` needs finufft only where the meshes are
+    computed (here, unless a scheduler's workers compute them); ``--method
+    auto`` falls back to the exact sums silently.
+    """
+    png_panel = args.panel is not None and args.panel.lower().endswith(".png")
+    try:
+        if args.show or args.screenshot or png_panel:
+            PICTURES.check()
+        check_extras(settings, scheduler=scheduler)
+    except MissingExtraError as exc:
+        return str(exc)
+    return None
+
+
 def _load_renderer():
     """The rendering module, or None with a message when it is unavailable."""
     try:
@@ -305,7 +332,7 @@ def _load_renderer():
         if exc.name == "dentopo.figures._render":
             _say("visualisation is not available yet in this version of dentopo")
         else:
-            _say(f"visualisation is not installed ({exc}): pip install 'dentopo[viz]'")
+            _say(f"cannot load the renderer: {exc}")
         return None
 
 
@@ -333,7 +360,7 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
                 **options,
                 **size,
             )
-        if args.visualize or args.screenshot or args.html:
+        if args.show or args.screenshot or args.html:
             file, result = ok[0]
             render.render_curvature(
                 result.mesh,
@@ -341,13 +368,16 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
                 title=os.path.basename(file),
                 screenshot=args.screenshot,
                 html=args.html,
-                interactive=args.visualize,
+                interactive=args.show,
                 **options,
                 **size,
             )
     except render.DisplayUnavailableError as exc:
         _say(f"cannot draw: {exc}")
         return 1
+    except MissingExtraError as exc:  # installed but incomplete: found only when drawing
+        _say(str(exc))
+        return 2
     except (ValueError, TypeError) as exc:
         _say(f"cannot draw: {exc}")
         return 2
@@ -376,6 +406,11 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     except (TypeError, ValueError) as exc:
         _say(str(exc))
         return 2
+    scheduler = args.scheduler or os.environ.get(SCHEDULER_ENV) or None
+    problem = _missing_extra(args, settings, scheduler)
+    if problem:  # now, not after a batch has been computed
+        _say(problem)
+        return 2
 
     paths = list(args.paths)
     if args.samples:
@@ -392,9 +427,11 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     files = found.files
 
     rendering = _rendering_requested(args)
-    single = args.visualize or args.screenshot or args.html
+    single = args.show or args.screenshot or args.html
     if single and len(files) != 1:
-        _say(f"-v, --screenshot and --html draw one mesh; {len(files)} were given (see --panel)")
+        _say(
+            f"--show, --screenshot and --html draw one mesh; {len(files)} were given (see --panel)"
+        )
         return 2
     render = _load_renderer() if rendering else None
     if rendering and render is None:
@@ -417,7 +454,6 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
 
     if args.per_vertex is not None:
         os.makedirs(args.per_vertex, exist_ok=True)
-    scheduler = args.scheduler or os.environ.get(SCHEDULER_ENV) or None
     jobs = args.jobs or available_cores()
     tasks = plan_batch(
         todo,
@@ -439,6 +475,10 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             progress.update(outcome.record)
     except KeyboardInterrupt:
         interrupted = True
+    except MissingExtraError as exc:  # found only when running (installed but incomplete)
+        progress.close()
+        _say(str(exc))
+        return 2
     except (ImportError, OSError) as exc:  # no dask, or the scheduler cannot be reached
         progress.close()
         _say(f"cannot run on scheduler {scheduler!r}: {exc}" if scheduler else str(exc))
