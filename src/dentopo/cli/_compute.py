@@ -15,9 +15,6 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
-import shutil
-import sys
-import time
 
 from .._optional import PICTURES, MissingExtraError
 from .._version import __version__
@@ -36,28 +33,12 @@ from ..batch import (
 from ..formats import output_format, read_table, write_table
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
-
-PROG = "dentopo"
+from ._progress import PROG, Progress
+from ._progress import say as _say
+from ._table import print_table
 
 #: Environment variable naming a Dask scheduler, used when --scheduler is not given.
 SCHEDULER_ENV = "DENTOPO_SCHEDULER"
-
-#: In plain-line progress, phases within a mesh are reported once it has taken this long.
-SLOW_MESH_SECONDS = 2.0
-
-#: Columns of the table printed on stdout when no --output is given.
-TABLE_COLUMNS = (
-    "file",
-    "dne",
-    "positive_dne",
-    "negative_dne",
-    "surface_area",
-    "vertices",
-    "faces",
-    "seconds",
-    "status",
-    "error",
-)
 
 EXAMPLES = """\
 examples:
@@ -191,89 +172,6 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help="colour limits at this percentile of |value| (default 98)",
     )
     return parser
-
-
-def _say(message: str) -> None:
-    print(f"{PROG}: {message}", file=sys.stderr, flush=True)
-
-
-class _Progress:
-    """Progress on stderr: a bar on a terminal, plain lines otherwise, problems always."""
-
-    def __init__(self, total: int, *, quiet: bool):
-        self.total = total
-        self.quiet = quiet
-        self.tty = sys.stderr.isatty() and not quiet
-        self.start = time.perf_counter()
-        self.done = 0
-        self.mesh_start = self.start
-        if self.tty and total:
-            self._bar("")  # at once: the first mesh may take a while
-
-    def _clear(self) -> None:
-        if self.tty:
-            print("\r\033[K", end="", file=sys.stderr)
-
-    def message(self, text: str) -> None:
-        self._clear()
-        _say(text)
-
-    def update(self, record: dict) -> None:
-        self.done += 1
-        ok = record["status"] == "ok"
-        seconds = record["seconds"]
-        timing = "" if seconds is None else f" ({seconds:.2f} s)"
-        if not ok:
-            self.message(f"{record['file']}: error: {record['error']}")
-        elif self.tty:
-            self._bar(f"{os.path.basename(record['file'])}{timing}")
-        elif not self.quiet:
-            _say(f"[{self.done}/{self.total}] {record['file']}: ok{timing}")
-
-    def phase(self, file: str, name: str) -> None:
-        """A phase of one mesh starts: shown on the bar, or as a line once a mesh is slow."""
-        now = time.perf_counter()
-        if name == "prepare":
-            self.mesh_start = now
-        elapsed = now - self.mesh_start
-        if self.tty:
-            self._bar(f"{os.path.basename(file)}: {name} ({elapsed:.1f} s)")
-        elif not self.quiet and elapsed >= SLOW_MESH_SECONDS:
-            _say(f"{file}: {name} ({elapsed:.1f} s)")
-
-    def _bar(self, last: str) -> None:
-        width = shutil.get_terminal_size((80, 20)).columns
-        elapsed = time.perf_counter() - self.start
-        rate = self.done / elapsed if elapsed > 0 else 0.0
-        filled = int(20 * self.done / max(self.total, 1))
-        text = (
-            f"[{'#' * filled}{'.' * (20 - filled)}] {self.done}/{self.total} {rate:.1f}/s  {last}"
-        )
-        print("\r\033[K" + text[: width - 1], end="", file=sys.stderr, flush=True)
-
-    def close(self) -> None:
-        if self.tty and self.done:
-            print(file=sys.stderr, flush=True)
-
-
-def _format(value) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    return str(value)
-
-
-def print_table(records: list[dict]) -> None:
-    """A readable, aligned table of the main columns on stdout."""
-    cells = [list(TABLE_COLUMNS)] + [[_format(r.get(c)) for c in TABLE_COLUMNS] for r in records]
-    widths = [max(len(row[i]) for row in cells) for i in range(len(TABLE_COLUMNS))]
-    for row in cells:
-        line = "  ".join(
-            cell.ljust(w) if i == 0 or i >= len(row) - 2 else cell.rjust(w)
-            for i, (cell, w) in enumerate(zip(row, widths, strict=True))
-        )
-        print(line.rstrip())
 
 
 def _rendering_requested(args) -> bool:
@@ -463,7 +361,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         absolute=scheduler is not None,
     )
 
-    progress = _Progress(len(tasks), quiet=args.quiet)
+    progress = Progress(len(tasks), quiet=args.quiet)
     outcomes: dict[int, Outcome] = {}
     interrupted = False
     running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
@@ -485,7 +383,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         return 2
     finally:
         running.close()  # stops the workers, also on Ctrl-C
-    progress.close()
+        progress.close()
 
     new = [outcomes[i].record for i in sorted(outcomes)]
     if interrupted:

@@ -12,7 +12,8 @@ import sys
 from collections.abc import Callable
 
 from .._optional import MissingExtraError
-from ._compute import PROG, compute_main
+from ._compute import compute_main
+from ._progress import say
 
 # ``dentopo NAME ARGS...`` runs ``SUBCOMMANDS[NAME](ARGS)`` and exits with the integer it
 # returns.  A value is a callable ``f(argv: list[str]) -> int`` or, better, a lazy
@@ -40,7 +41,7 @@ def main(argv: list[str] | None = None) -> int:
             return _run_subcommand(argv[0], argv[1:])
         return compute_main(argv, tuple(SUBCOMMANDS))
     except MissingExtraError as exc:  # wherever it is found: one line naming the extra
-        print(f"{PROG}: {exc}", file=sys.stderr)
+        say(str(exc))
         return 2
 
 
