@@ -13,7 +13,7 @@ import pytest
 import trimesh
 
 from dentopo import COLUMNS, __version__, ariaDNE
-from dentopo.cli import SUBCOMMANDS, main
+from dentopo.cli import SUBCOMMANDS, _progress, main
 from dentopo.cli import _compute as _cli
 from dentopo.samples import tooth
 
@@ -458,7 +458,7 @@ def test_resume_with_auto_reuses_rows_of_either_method(tmp_path, capsys):
 
 
 def test_phases_of_a_slow_mesh_are_reported(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(_cli, "SLOW_MESH_SECONDS", 0.0)
+    monkeypatch.setattr(_progress, "SLOW_MESH_SECONDS", 0.0)
     mesh = small_tooth(tmp_path / "crown.ply")
     assert main([str(mesh)]) == 0
     err = capsys.readouterr().err

@@ -13,6 +13,8 @@ May import: nothing of dentopo (every subpackage may import it).
 from __future__ import annotations
 
 import importlib
+import importlib.util
+from dataclasses import dataclass
 from types import ModuleType
 
 
@@ -61,3 +63,75 @@ def require(module: str, *, extra: str, purpose: str) -> ModuleType:
         return importlib.import_module(module)
     except ModuleNotFoundError as exc:
         raise MissingExtraError(purpose, extra, name=exc.name) from exc
+
+
+def check(module: str, *, extra: str, purpose: str) -> None:
+    """Raise :class:`MissingExtraError` if `module` is not installed, without importing it.
+
+    A cheap test (``importlib.util.find_spec``) for checking up front, before
+    any work is done, that a later :func:`require` can succeed.  It does not
+    import `module`, so a broken installation shows only when :func:`require`
+    runs.
+
+    Parameters
+    ----------
+    module, extra, purpose : str
+        As for :func:`require`.
+
+    Raises
+    ------
+    MissingExtraError
+        If `module` cannot be found.
+    """
+    try:
+        found = importlib.util.find_spec(module) is not None
+    except ImportError:  # a dotted name whose parent package is missing
+        found = False
+    except ValueError:  # a module in sys.modules without a spec (set up by hand)
+        found = True
+    if not found:
+        raise MissingExtraError(purpose, extra, name=module)
+
+
+@dataclass(frozen=True)
+class Feature:
+    """A feature behind an extra: what it is called, the module it imports, the extra.
+
+    Attributes
+    ----------
+    purpose : str
+        The feature, plural, as the subject of the message (``"pictures"``).
+    module : str
+        The module it imports (``"pyvista"``).
+    extra : str
+        The extra of ``pyproject.toml`` that installs it (``"viz"``).
+    """
+
+    purpose: str
+    module: str
+    extra: str
+
+    def require(self) -> ModuleType:
+        """Import the module, or raise :class:`MissingExtraError` (see :func:`require`)."""
+        return require(self.module, extra=self.extra, purpose=self.purpose)
+
+    def check(self) -> None:
+        """Raise :class:`MissingExtraError` if the module is not installed (see :func:`check`)."""
+        check(self.module, extra=self.extra, purpose=self.purpose)
+
+
+#: PNG screenshots and interactive windows (HTML pages need no extra).
+PICTURES = Feature("pictures", "pyvista", "viz")
+#: ``method="fast"``: kernel sums by a non-uniform FFT.
+FAST_METHOD = Feature("fast kernel sums (method 'fast')", "finufft", "fast")
+#: Batches on a Dask scheduler.
+DASK = Feature("Dask clusters", "distributed", "cluster")
+#: ``to_dataframe``.
+DATA_FRAMES = Feature("data frames", "pandas", "table")
+#: The robustness study's decimated perturbations.
+DECIMATION = Feature("decimated meshes", "fast_simplification", "study")
+#: The robustness study's and the bandwidth sweep's figures.
+STUDY_FIGURES = Feature("study figures", "matplotlib", "study")
+
+#: Every feature above, for checks and tests.
+FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, DECIMATION, STUDY_FIGURES)

@@ -143,6 +143,9 @@ def ariaDNE(  # noqa: N802 -- the paper's name
     ------
     TypeError, ValueError
         For unusable meshes or parameters; the message names the problem.
+    dentopo._optional.MissingExtraError
+        An ``ImportError``: ``method="fast"`` without the optional ``finufft``
+        (``pip install 'dentopo[fast]'``).
 
     Warns
     -----

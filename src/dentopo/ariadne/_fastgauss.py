@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._optional import FAST_METHOD
 from ._kernel import KernelMoments, kernel_radius
 
 #: FINUFFT tolerance used by default (see the module's error model).
@@ -60,21 +61,15 @@ _FEW_NEIGHBOURS_WEIGHT = 4.0
 
 
 def _require_finufft():
-    try:
-        import finufft
-    except ImportError as exc:  # pragma: no cover - exercised without the extra
-        raise ImportError(
-            'method="fast" needs the optional FINUFFT library: '
-            "pip install 'dentopo[fast]' (or use method=\"exact\")"
-        ) from exc
-    return finufft
+    """The ``finufft`` module, or :class:`~dentopo._optional.MissingExtraError` (fast extra)."""
+    return FAST_METHOD.require()
 
 
 def finufft_available() -> bool:
     """True if the optional ``finufft`` package can be imported."""
     try:
         _require_finufft()
-    except ImportError:
+    except ImportError:  # not installed, or installed but broken: the exact sums it is
         return False
     return True
 

@@ -25,6 +25,7 @@ from functools import partial
 
 import numpy as np
 
+from .._optional import DASK, DATA_FRAMES, FAST_METHOD, MissingExtraError
 from ..ariadne import ariaDNE, check_distance_type, check_method, check_number
 from ..formats import (
     COLUMNS,
@@ -114,7 +115,7 @@ def error_reason(exc: BaseException) -> str:
         reason = f"unreadable: {exc}"
     elif isinstance(exc, MemoryError):
         reason = "out of memory"
-    elif isinstance(exc, (ValueError, TypeError)):
+    elif isinstance(exc, (ValueError, TypeError, MissingExtraError)):
         reason = str(exc)
     else:
         reason = f"{type(exc).__name__}: {exc}"
@@ -240,22 +241,17 @@ def _run_local(
 
 
 def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[Outcome]:
-    try:
-        from distributed import Client, as_completed
-    except ImportError as exc:
-        raise ImportError(
-            "running on a Dask cluster needs dask.distributed: pip install 'dentopo[cluster]'"
-        ) from exc
+    distributed = DASK.require()
 
     if settings.threads is None:  # a worker runs one task per thread
         settings = replace(settings, threads=1)
-    own_client = not isinstance(scheduler, Client)
-    client = Client(scheduler, set_as_default=False) if own_client else scheduler
+    own_client = not isinstance(scheduler, distributed.Client)
+    client = distributed.Client(scheduler, set_as_default=False) if own_client else scheduler
     futures = {}
     try:
         submitted = client.map(compute_task, list(tasks), [settings] * len(tasks), pure=False)
         futures = dict(zip(submitted, tasks, strict=True))  # one message for the whole batch
-        for future in as_completed(list(futures), loop=client.loop):
+        for future in distributed.as_completed(list(futures), loop=client.loop):
             try:
                 yield future.result()
             except Exception as exc:  # the task itself never raises: this is the cluster
@@ -343,6 +339,26 @@ def run_tasks(
     if scheduler is not None:
         return _run_dask(tasks, settings, scheduler)
     return _run_local(tasks, settings, jobs, on_phase)
+
+
+def check_extras(settings: Settings, *, scheduler=None) -> None:
+    """Check that the extras a batch needs here are installed, before computing anything.
+
+    A `scheduler` needs dask.distributed in this process; ``method="fast"``
+    needs finufft where the meshes are computed, i.e. here unless they run on
+    a scheduler (whose workers report a missing finufft per file).  Cheap:
+    nothing is imported.
+
+    Raises
+    ------
+    dentopo._optional.MissingExtraError
+        Naming the extra to install.
+    """
+    if scheduler is not None:
+        if isinstance(scheduler, str):  # a Client passed in proves distributed is there
+            DASK.check()
+    elif settings.method == "fast":
+        FAST_METHOD.check()
 
 
 def make_settings(
@@ -464,6 +480,10 @@ def compute_batch(
     ------
     ValueError
         If no mesh file is found, or an option is invalid.
+    dentopo._optional.MissingExtraError
+        An ``ImportError``: a `scheduler` without dask.distributed
+        (``pip install 'dentopo[cluster]'``), or ``method="fast"`` without
+        finufft (``pip install 'dentopo[fast]'``), before any file is computed.
 
     Warns
     -----
@@ -493,6 +513,7 @@ def compute_batch(
         threads=threads,
         geometry=geometry,
     )
+    check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
         raise ValueError(f"per_vertex_dir {os.fspath(per_vertex_dir)!r} is not a directory")
     per_vertex = PerVertexOptions(
@@ -529,11 +550,8 @@ def to_dataframe(records: Iterable[dict]):
 
     Raises
     ------
-    ImportError
-        If pandas is not installed (``pip install 'dentopo[table]'``).
+    dentopo._optional.MissingExtraError
+        An ``ImportError``: pandas is not installed (``pip install 'dentopo[table]'``).
     """
-    try:
-        import pandas as pd
-    except ImportError as exc:
-        raise ImportError("to_dataframe needs pandas: pip install 'dentopo[table]'") from exc
+    pd = DATA_FRAMES.require()
     return pd.DataFrame(list(records), columns=list(COLUMNS))

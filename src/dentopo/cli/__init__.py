@@ -1,8 +1,11 @@
 """The ``dentopo`` command (also ``python -m dentopo``): a thin shell over the public API.
 
 ``_main`` dispatches to a subcommand or the main command; ``_compute`` is the
-main command (a table with one row per mesh); ``_study`` the ``robustness`` and
-``sweep`` subcommands.  Only this subpackage prints or exits.
+main command (a table with one row per mesh), drawing its progress with
+``_progress`` and its table with ``_table`` (both with rich on a terminal,
+plain text otherwise); ``_study`` the ``robustness`` and ``sweep``
+subcommands.  Only this subpackage prints or exits.  A missing extra ends as
+one line naming it, with exit code 2.
 
 May import: every other subpackage of dentopo; nothing imports it.
 """

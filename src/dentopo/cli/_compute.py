@@ -6,7 +6,8 @@ the table (:mod:`dentopo.formats`) and, if asked, draws the curvature
 prints: results to stdout or files, messages and progress to stderr.
 
 Exit codes: 0 all files ok; 1 some file failed (or the display is unavailable);
-2 usage error (including "no mesh files found"); 130 interrupted.
+2 usage error (including "no mesh files found" and a missing extra, checked
+before any file is computed); 130 interrupted.
 """
 
 from __future__ import annotations
@@ -14,15 +15,14 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
-import shutil
-import sys
-import time
 
+from .._optional import PICTURES, MissingExtraError
 from .._version import __version__
 from ..ariadne import METHODS
 from ..batch import (
     Outcome,
     available_cores,
+    check_extras,
     find_mesh_files,
     make_settings,
     merge_records,
@@ -43,31 +43,15 @@ from ..formats import (
 )
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
-
-PROG = "dentopo"
+from ._progress import PROG, Progress
+from ._progress import say as _say
+from ._table import print_layout, print_table
 
 #: Environment variable naming a Dask scheduler, used when --scheduler is not given.
 SCHEDULER_ENV = "DENTOPO_SCHEDULER"
 
-#: In plain-line progress, phases within a mesh are reported once it has taken this long.
-SLOW_MESH_SECONDS = 2.0
-
 #: ``-o -``: the table goes to stdout (as CSV).
 STDOUT = "-"
-
-#: Columns of the table printed on stdout when no --output is given.
-TABLE_COLUMNS = (
-    "file",
-    "dne",
-    "positive_dne",
-    "negative_dne",
-    "surface_area",
-    "vertices",
-    "faces",
-    "seconds",
-    "status",
-    "error",
-)
 
 EXAMPLES = """\
 examples:
@@ -90,7 +74,8 @@ vertices, faces, bandwidth, cutoff, distance_type, sign_method, method,
 seconds, status, error
 
 exit codes: 0 all files ok, 1 some file failed, 2 usage error (also: no mesh
-files found), 130 interrupted (rows already done are kept).
+files found, or an extra the options need is not installed), 130 interrupted
+(rows already done are kept).
 """
 
 
@@ -195,7 +180,12 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     )
     view = parser.add_argument_group("visualisation")
     view.add_argument(
-        "-v", "--visualize", action="store_true", help="show the mesh in a window (one input)"
+        "--show",
+        "-v",
+        "--visualize",
+        dest="show",
+        action="store_true",
+        help="show the mesh in a window (one input; -v and --visualize are aliases)",
     )
     view.add_argument("--screenshot", metavar="PNG", help="save a picture, off-screen (one input)")
     view.add_argument("--html", metavar="FILE", help="save an interactive HTML view (one input)")
@@ -224,106 +214,8 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     return parser
 
 
-def _say(message: str) -> None:
-    print(f"{PROG}: {message}", file=sys.stderr, flush=True)
-
-
-class _Progress:
-    """Progress on stderr: a bar on a terminal, plain lines otherwise, problems always."""
-
-    def __init__(self, total: int, *, quiet: bool):
-        self.total = total
-        self.quiet = quiet
-        self.tty = sys.stderr.isatty() and not quiet
-        self.start = time.perf_counter()
-        self.done = 0
-        self.mesh_start = self.start
-        if self.tty and total:
-            self._bar("")  # at once: the first mesh may take a while
-
-    def _clear(self) -> None:
-        if self.tty:
-            print("\r\033[K", end="", file=sys.stderr)
-
-    def message(self, text: str) -> None:
-        self._clear()
-        _say(text)
-
-    def update(self, record: dict) -> None:
-        self.done += 1
-        ok = record["status"] == "ok"
-        seconds = record["seconds"]
-        timing = "" if seconds is None else f" ({seconds:.2f} s)"
-        if not ok:
-            self.message(f"{record['file']}: error: {record['error']}")
-        elif self.tty:
-            self._bar(f"{os.path.basename(record['file'])}{timing}")
-        elif not self.quiet:
-            _say(f"[{self.done}/{self.total}] {record['file']}: ok{timing}")
-
-    def phase(self, file: str, name: str) -> None:
-        """A phase of one mesh starts: shown on the bar, or as a line once a mesh is slow."""
-        now = time.perf_counter()
-        if name == "prepare":
-            self.mesh_start = now
-        elapsed = now - self.mesh_start
-        if self.tty:
-            self._bar(f"{os.path.basename(file)}: {name} ({elapsed:.1f} s)")
-        elif not self.quiet and elapsed >= SLOW_MESH_SECONDS:
-            _say(f"{file}: {name} ({elapsed:.1f} s)")
-
-    def _bar(self, last: str) -> None:
-        width = shutil.get_terminal_size((80, 20)).columns
-        elapsed = time.perf_counter() - self.start
-        rate = self.done / elapsed if elapsed > 0 else 0.0
-        filled = int(20 * self.done / max(self.total, 1))
-        text = (
-            f"[{'#' * filled}{'.' * (20 - filled)}] {self.done}/{self.total} {rate:.1f}/s  {last}"
-        )
-        print("\r\033[K" + text[: width - 1], end="", file=sys.stderr, flush=True)
-
-    def close(self) -> None:
-        if self.tty and self.done:
-            print(file=sys.stderr, flush=True)
-
-
-def _format(value) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    return str(value)
-
-
-def print_table(records: list[dict]) -> None:
-    """A readable, aligned table of the main columns on stdout."""
-    cells = [list(TABLE_COLUMNS)] + [[_format(r.get(c)) for c in TABLE_COLUMNS] for r in records]
-    widths = [max(len(row[i]) for row in cells) for i in range(len(TABLE_COLUMNS))]
-    for row in cells:
-        line = "  ".join(
-            cell.ljust(w) if i == 0 or i >= len(row) - 2 else cell.rjust(w)
-            for i, (cell, w) in enumerate(zip(row, widths, strict=True))
-        )
-        print(line.rstrip())
-
-
-def _print_layout(records: list[dict], columns) -> None:
-    """The table in another column layout (``--columns``), aligned, on stdout."""
-    cells = [list(columns.header)] + [
-        [columns.text(value) for value in row] for row in columns.rows(records)
-    ]
-    kinds = [column.kind for column in columns.columns]
-    widths = [max(len(row[i]) for row in cells) for i in range(len(kinds))]
-    for row in cells:
-        line = "  ".join(
-            cell.ljust(w) if kind == "text" else cell.rjust(w)
-            for cell, w, kind in zip(row, widths, kinds, strict=True)
-        )
-        print(line.rstrip())
-
-
 def _rendering_requested(args) -> bool:
-    return bool(args.visualize or args.screenshot or args.html or args.panel)
+    return bool(args.show or args.screenshot or args.html or args.panel)
 
 
 def _check_usage(args) -> str | None:
@@ -363,6 +255,24 @@ def _check_usage(args) -> str | None:
     return None
 
 
+def _missing_extra(args, settings, scheduler) -> str | None:
+    """The one-line message if an extra the options need is not installed, or None.
+
+    Checked before any file is read (cheap: nothing is imported).  HTML pages
+    need no extra; ``--method fast`` needs finufft only where the meshes are
+    computed (here, unless a scheduler's workers compute them); ``--method
+    auto`` falls back to the exact sums silently.
+    """
+    png_panel = args.panel is not None and args.panel.lower().endswith(".png")
+    try:
+        if args.show or args.screenshot or png_panel:
+            PICTURES.check()
+        check_extras(settings, scheduler=scheduler)
+    except MissingExtraError as exc:
+        return str(exc)
+    return None
+
+
 def _load_renderer():
     """The rendering module, or None with a message when it is unavailable."""
     try:
@@ -371,7 +281,7 @@ def _load_renderer():
         if exc.name == "dentopo.figures._render":
             _say("visualisation is not available yet in this version of dentopo")
         else:
-            _say(f"visualisation is not installed ({exc}): pip install 'dentopo[viz]'")
+            _say(f"cannot load the renderer: {exc}")
         return None
 
 
@@ -399,7 +309,7 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
                 **options,
                 **size,
             )
-        if args.visualize or args.screenshot or args.html:
+        if args.show or args.screenshot or args.html:
             file, result = ok[0]
             render.render_curvature(
                 result.mesh,
@@ -407,13 +317,16 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
                 title=os.path.basename(file),
                 screenshot=args.screenshot,
                 html=args.html,
-                interactive=args.visualize,
+                interactive=args.show,
                 **options,
                 **size,
             )
     except render.DisplayUnavailableError as exc:
         _say(f"cannot draw: {exc}")
         return 1
+    except MissingExtraError as exc:  # installed but incomplete: found only when drawing
+        _say(str(exc))
+        return 2
     except (ValueError, TypeError) as exc:
         _say(f"cannot draw: {exc}")
         return 2
@@ -452,6 +365,11 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     except (TypeError, ValueError) as exc:
         _say(str(exc))
         return 2
+    scheduler = args.scheduler or os.environ.get(SCHEDULER_ENV) or None
+    problem = _missing_extra(args, settings, scheduler)
+    if problem:  # now, not after a batch has been computed
+        _say(problem)
+        return 2
 
     paths = list(args.paths)
     if args.samples:
@@ -468,9 +386,11 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     files = found.files
 
     rendering = _rendering_requested(args)
-    single = args.visualize or args.screenshot or args.html
+    single = args.show or args.screenshot or args.html
     if single and len(files) != 1:
-        _say(f"-v, --screenshot and --html draw one mesh; {len(files)} were given (see --panel)")
+        _say(
+            f"--show, --screenshot and --html draw one mesh; {len(files)} were given (see --panel)"
+        )
         return 2
     render = _load_renderer() if rendering else None
     if rendering and render is None:
@@ -495,7 +415,6 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
 
     if args.per_vertex is not None:
         os.makedirs(args.per_vertex, exist_ok=True)
-    scheduler = args.scheduler or os.environ.get(SCHEDULER_ENV) or None
     jobs = args.jobs or available_cores()
     tasks = plan_batch(
         todo,
@@ -506,7 +425,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         absolute=scheduler is not None,
     )
 
-    progress = _Progress(len(tasks), quiet=args.quiet)
+    progress = Progress(len(tasks), quiet=args.quiet)
     outcomes: dict[int, Outcome] = {}
     interrupted = False
     running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
@@ -518,13 +437,17 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             progress.update(outcome.record)
     except KeyboardInterrupt:
         interrupted = True
+    except MissingExtraError as exc:  # found only when running (installed but incomplete)
+        progress.close()
+        _say(str(exc))
+        return 2
     except (ImportError, OSError) as exc:  # no dask, or the scheduler cannot be reached
         progress.close()
         _say(f"cannot run on scheduler {scheduler!r}: {exc}" if scheduler else str(exc))
         return 2
     finally:
         running.close()  # stops the workers, also on Ctrl-C
-    progress.close()
+        progress.close()
 
     new = [outcomes[i].record for i in sorted(outcomes)]
     if interrupted:
@@ -559,7 +482,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         if not args.quiet:
             _say(f"wrote {written} rows to {args.output} ({failed} failed)")
     elif columns.name != "dentopo":
-        _print_layout(records, columns)
+        print_layout(records, columns)
     else:
         print_table(records)
     if interrupted:

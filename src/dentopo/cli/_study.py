@@ -1,10 +1,17 @@
-"""``dentopo robustness`` and ``dentopo sweep``: thin shells over `_robustness`."""
+"""``dentopo robustness`` and ``dentopo sweep``: thin shells over `_robustness`.
+
+The figures need the ``study`` extra (matplotlib), checked before anything is
+computed unless ``--no-figures``; generated perturbations need it too
+(fast-simplification decimates), which the study checks before computing.  A
+missing extra ends as one line naming it, with exit code 2.
+"""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
+from .._optional import STUDY_FIGURES, MissingExtraError
 from ..sign import SIGN_METHODS
 
 
@@ -84,6 +91,17 @@ def _print_rows(rows, columns) -> None:
         )
 
 
+def _missing_figures(prog: str, figures: bool) -> bool:
+    """Say so and return True if `figures` are asked for without the study extra."""
+    if figures:
+        try:
+            STUDY_FIGURES.check()
+        except MissingExtraError as exc:
+            print(f"{prog}: {exc}", file=sys.stderr)
+            return True
+    return False
+
+
 def robustness_main(argv: list[str]) -> int:
     """Run ``dentopo robustness ARGS``; the exit code."""
     from ..study import robustness_study, write_study
@@ -101,6 +119,8 @@ def robustness_main(argv: list[str]) -> int:
                 )
                 return 2
             perturbations[name] = path
+    if _missing_figures("dentopo robustness", not args.no_figures):
+        return 2
     options = {}
     if perturbations is None:
         options = {"low_faces": args.low_faces, "high_faces": args.high_faces, "seed": args.seed}
@@ -114,6 +134,9 @@ def robustness_main(argv: list[str]) -> int:
             **options,
         )
         written = write_study(study, args.output, figures=not args.no_figures)
+    except MissingExtraError as exc:
+        print(f"dentopo robustness: {exc}", file=sys.stderr)
+        return 2
     except (OSError, ValueError, TypeError, ImportError) as exc:
         print(f"dentopo robustness: {exc}", file=sys.stderr)
         return 1
@@ -138,11 +161,16 @@ def sweep_main(argv: list[str]) -> int:
     from ..study import SWEEP_COLUMNS, SWEEP_METHODS, bandwidth_sweep, write_sweep
 
     args = _sweep_parser().parse_args(argv)
+    if _missing_figures("dentopo sweep", not args.no_figures):
+        return 2
     try:
         sweep = bandwidth_sweep(
             args.mesh, args.bandwidths, sign_methods=args.sign_methods or SWEEP_METHODS
         )
         written = write_sweep(sweep, args.output, figures=not args.no_figures)
+    except MissingExtraError as exc:
+        print(f"dentopo sweep: {exc}", file=sys.stderr)
+        return 2
     except (OSError, ValueError, TypeError, ImportError) as exc:
         print(f"dentopo sweep: {exc}", file=sys.stderr)
         return 1

@@ -7,9 +7,11 @@ bar stating the limit rule and a caption with the totals.  Panels put several
 meshes (or one mesh at several bandwidths, or one mesh under several sign
 rules) side by side on one shared scale.
 
-pyvista/VTK draws windows and screenshots; it is imported only when a picture
-is made.  Screenshots are rendered off-screen and need no display (VTK renders
-through EGL or OSMesa).  HTML pages are written by ``_html`` with no
+pyvista/VTK (the ``viz`` extra) draws windows and screenshots; it is imported
+only when a picture is made, before any mesh is computed for it (without it,
+:class:`~dentopo._optional.MissingExtraError` names the extra).  Screenshots
+are rendered off-screen and need no display (VTK renders through EGL or
+OSMesa).  HTML pages are written by ``_html`` with no
 dependencies beyond numpy.
 """
 
@@ -25,6 +27,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from .._optional import PICTURES, require
 from ._colors import DEFAULT_PERCENTILE, ColorScale, color_scale, lookup_table
 from ._views import VIEWS
 
@@ -136,6 +139,12 @@ def _check_window(window_size) -> tuple[int, int]:
     return width, height
 
 
+def _need_pictures(screenshot, interactive) -> None:
+    """Import pyvista now if a screenshot or a window is asked for (before any computing)."""
+    if screenshot is not None or interactive:
+        PICTURES.require()
+
+
 def has_display() -> bool:
     """Whether an interactive window can be opened here.
 
@@ -166,7 +175,7 @@ def _camera(item_vertices: np.ndarray, view) -> tuple:
 def _plotter(
     items: list[_Item], scale: ColorScale, *, title_text, legend, view, window_size, off_screen
 ):
-    import pyvista as pv
+    pv = PICTURES.require()
 
     n = len(items)
     cols = n if n <= 4 else int(np.ceil(np.sqrt(n)))
@@ -231,14 +240,14 @@ def _plotter(
 @contextmanager
 def _quiet_vtk_warnings():
     """Hide VTK's warnings on stderr (off-screen it warns that there is no X server)."""
-    from vtkmodules.vtkCommonCore import vtkLogger
-
-    previous = vtkLogger.GetCurrentVerbosityCutoff()
-    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
+    core = require("vtkmodules.vtkCommonCore", extra=PICTURES.extra, purpose=PICTURES.purpose)
+    logger = core.vtkLogger
+    previous = logger.GetCurrentVerbosityCutoff()
+    logger.SetStderrVerbosity(logger.VERBOSITY_ERROR)
     try:
         yield
     finally:
-        vtkLogger.SetStderrVerbosity(previous)
+        logger.SetStderrVerbosity(previous)
 
 
 def _screenshot(items, scale, title_text, legend, view, window_size, path) -> None:
@@ -276,6 +285,7 @@ def _draw(
     window_size = _check_window(window_size)
     if screenshot is None and html is None and not interactive:
         raise ValueError("nothing to draw to: give screenshot=, html= or interactive=True")
+    _need_pictures(screenshot, interactive)  # before the HTML page is written
     if interactive and not has_display():
         raise DisplayUnavailableError(
             "no display is available for an interactive window (DISPLAY and WAYLAND_DISPLAY "
@@ -377,12 +387,16 @@ def render_curvature(
         If `interactive` is True and there is no display.
     ValueError, TypeError
         For bad options, or when no output is requested.
+    dentopo._optional.MissingExtraError
+        An ``ImportError``: a screenshot or a window without pyvista
+        (``pip install 'dentopo[viz]'``); HTML pages need no extra.
 
     Examples
     --------
     >>> from dentopo import render_curvature
     >>> render_curvature("tooth.ply", screenshot="tooth.png", view="top")  # doctest: +SKIP
     """
+    _need_pictures(screenshot, interactive)
     items = [_item(mesh, result, field, title)]
     _draw(
         items,
@@ -426,8 +440,9 @@ def render_panel(
     field : {"local_curvature", "local_dne"} or sequence of (n,) arrays
         What to colour by; per-vertex arrays are given one per item.
     limits, percentile, view, screenshot, html, interactive
-        As in :func:`render_curvature`.  Default limits pool ``|value|`` over
-        all items, so the scale is shared.
+        As in :func:`render_curvature` (screenshots and windows need the
+        ``viz`` extra).  Default limits pool ``|value|`` over all items, so
+        the scale is shared.
     window_size : (int, int), optional
         Default: 400 x 400 pixels per mesh, plus the colour bar.
     title : str, optional
@@ -442,6 +457,7 @@ def render_panel(
     >>> pairs = [(path, ariaDNE(path)) for path in ["a.ply", "b.ply"]]  # doctest: +SKIP
     >>> render_panel(pairs, screenshot="panel.png", limits=0.3)  # doctest: +SKIP
     """
+    _need_pictures(screenshot, interactive)
     items = list(items)
     if not items:
         raise ValueError("render_panel needs at least one (mesh, result) pair")
@@ -512,6 +528,7 @@ def render_bandwidths(
     """
     from ..ariadne import ariaDNE
 
+    _need_pictures(options.get("screenshot"), options.get("interactive", False))
     if isinstance(mesh, (str, os.PathLike)):
         from ..mesh import load_mesh
 
@@ -561,6 +578,7 @@ def render_comparison(
     """
     from ..sign import DEFAULT_RADIUS_FACTOR, curvature_measure_sign
 
+    _need_pictures(options.get("screenshot"), options.get("interactive", False))
     if result is None:
         from ..ariadne import ariaDNE
 

@@ -15,7 +15,9 @@
   totals normalised by the original mesh, and the sign agreement (the
   paper's Figure 5).
 
-Drawn with ``matplotlib.figure.Figure`` (no pyplot state, no display needed).
+Drawn with ``matplotlib.figure.Figure`` (no pyplot state, no display needed);
+matplotlib comes with the ``study`` extra and is imported only here, through
+:data:`dentopo._optional.STUDY_FIGURES`.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from .._optional import STUDY_FIGURES, require
 from ..mesh import outward_faces
 from ..topography import ClassicDNEResult
 
@@ -36,6 +39,11 @@ METHOD_LABELS = {
     "gaussian_curvature": "Gaussian curvature",
     "classic": "classic DNE (molaR)",
 }
+
+
+def _mpl(module: str):
+    """A matplotlib module, or :class:`~dentopo._optional.MissingExtraError` (study extra)."""
+    return require(module, extra=STUDY_FIGURES.extra, purpose=STUDY_FIGURES.purpose)
 
 
 def face_values(result) -> np.ndarray:
@@ -62,8 +70,8 @@ def view_basis(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 def draw_mesh(ax, vertices, faces, values, *, basis, limit, cmap=CMAP) -> None:
     """Paint a mesh on a 2-D axes, orthographic along ``basis[2]``, back to front."""
-    from matplotlib import colormaps
-    from matplotlib.collections import PolyCollection
+    colormaps = _mpl("matplotlib").colormaps
+    collections = _mpl("matplotlib.collections")
 
     projected = (vertices - vertices.mean(axis=0)) @ basis.T
     tri = projected[faces]
@@ -74,7 +82,7 @@ def draw_mesh(ax, vertices, faces, values, *, basis, limit, cmap=CMAP) -> None:
     colour = colormaps[cmap](0.5 + 0.5 * np.clip(values / limit, -1.0, 1.0))
     colour[:, :3] *= (0.35 + 0.65 * shade)[:, None]
     ax.add_collection(
-        PolyCollection(
+        collections.PolyCollection(
             tri[order, :, :2], facecolors=colour[order], edgecolors="none", antialiased=False
         )
     )
@@ -95,13 +103,13 @@ def sign_grid(grid: Mapping[str, Sequence], column_labels: Sequence[str]):
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.cm import ScalarMappable
-    from matplotlib.colors import Normalize
-    from matplotlib.figure import Figure
+    cm, colors = _mpl("matplotlib.cm"), _mpl("matplotlib.colors")
 
     methods = list(grid)
     ncols = len(column_labels)
-    figure = Figure(figsize=(1.9 * ncols + 1.2, 1.9 * len(methods) + 0.4), layout="constrained")
+    figure = _mpl("matplotlib.figure").Figure(
+        figsize=(1.9 * ncols + 1.2, 1.9 * len(methods) + 0.4), layout="constrained"
+    )
     axes = figure.subplots(len(methods), ncols, squeeze=False)
     first = grid[methods[0]][0].mesh
     basis = view_basis(np.asarray(first.vertices, float), np.asarray(first.faces, np.int64))
@@ -134,7 +142,9 @@ def sign_grid(grid: Mapping[str, Sequence], column_labels: Sequence[str]):
             fontsize=9,
         )
         bar = figure.colorbar(
-            ScalarMappable(Normalize(-1 if per_cell else -limit, 1 if per_cell else limit), CMAP),
+            cm.ScalarMappable(
+                colors.Normalize(-1 if per_cell else -limit, 1 if per_cell else limit), CMAP
+            ),
             ax=axes[r, -1],
             shrink=0.8,
         )
@@ -151,15 +161,15 @@ def totals_bars(rows: Sequence[Mapping], columns: Sequence[str], methods: Sequen
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.figure import Figure
-
     series = (
         ("dne_normalised", "DNE", "0.55"),
         ("positive_normalised", "positive / convex", "#c0392b"),
         ("negative_normalised", "negative / concave", "#2e6db4"),
         ("sign_agreement", "sign agreement (area)", "#e0b040"),
     )
-    figure = Figure(figsize=(1.3 * len(columns) + 2.5, 2.1 * len(methods)), layout="constrained")
+    figure = _mpl("matplotlib.figure").Figure(
+        figsize=(1.3 * len(columns) + 2.5, 2.1 * len(methods)), layout="constrained"
+    )
     axes = figure.subplots(len(methods), 1, squeeze=False, sharex=True)[:, 0]
     table = {(row["perturbation"], row["method"]): row for row in rows}
     x = np.arange(len(columns))

@@ -54,6 +54,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from .._optional import DECIMATION, STUDY_FIGURES
 from ..ariadne import AriaDNEResult, ariaDNE
 from ..formats import atomic_write
 from ..mesh import as_arrays, clean, vertex_areas
@@ -116,13 +117,15 @@ def _check_positive(name: str, value) -> float:
 
 
 def decimate(vertices: np.ndarray, faces: np.ndarray, target_faces: int) -> tuple:
-    """Quadric edge-collapse decimation to about `target_faces` (fast-simplification)."""
-    try:
-        import fast_simplification
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError(
-            "decimation needs fast-simplification: pip install 'dentopo[study]'"
-        ) from exc
+    """Quadric edge-collapse decimation to about `target_faces` (fast-simplification).
+
+    Raises
+    ------
+    dentopo._optional.MissingExtraError
+        An ``ImportError``: fast-simplification is not installed
+        (``pip install 'dentopo[study]'``).
+    """
+    fast_simplification = DECIMATION.require()
     v, f = fast_simplification.simplify(
         np.ascontiguousarray(vertices, dtype=np.float64),
         np.ascontiguousarray(faces, dtype=np.int64),
@@ -226,6 +229,12 @@ def perturb(
     dict of str to trimesh.Trimesh
         ``"normal"`` (the cleaned original), then ``"low"``, ``"high"``,
         ``"noise1"``, ..., ``"smooth"``, in mesh units.
+
+    Raises
+    ------
+    dentopo._optional.MissingExtraError
+        An ``ImportError``: a face count below the mesh's needs decimation,
+        whose fast-simplification is not installed (``pip install 'dentopo[study]'``).
     """
     low_faces = _check_count("low_faces", low_faces)
     high_faces = _check_count("high_faces", high_faces)
@@ -236,6 +245,8 @@ def perturb(
 
     base = clean(*as_arrays(mesh))
     v, f = np.asarray(base.vertices), np.asarray(base.faces)
+    if min(low_faces, high_faces) < len(f):
+        DECIMATION.require()  # now, before the other perturbations are made
     out = {BASE: base}
     out["low"] = trimesh.Trimesh(*retessellate(v, f, low_faces), process=False)
     out["high"] = trimesh.Trimesh(*retessellate(v, f, high_faces), process=False)
@@ -571,13 +582,20 @@ def write_study(
     directory : path-like
         Created if missing.  Each file is written atomically.
     figures : bool, default True
-        Also draw the figures (needs matplotlib).
+        Also draw the figures (matplotlib, the ``study`` extra).
 
     Returns
     -------
     list of Path
         The files written.
+
+    Raises
+    ------
+    dentopo._optional.MissingExtraError
+        An ``ImportError``: `figures` without matplotlib, before anything is written.
     """
+    if figures:
+        STUDY_FIGURES.require()
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     table = directory / "robustness.csv"
@@ -602,7 +620,13 @@ def write_study(
 def write_sweep(
     sweep: BandwidthSweep, directory: str | os.PathLike, *, figures: bool = True
 ) -> list[Path]:
-    """Write ``sweep.csv``, then the panel ``sweep.png`` (rows: methods; columns: bandwidths)."""
+    """Write ``sweep.csv``, then the panel ``sweep.png`` (rows: methods; columns: bandwidths).
+
+    As :func:`write_study`: `figures` needs matplotlib (the ``study`` extra),
+    checked before anything is written.
+    """
+    if figures:
+        STUDY_FIGURES.require()
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     table = directory / "sweep.csv"
