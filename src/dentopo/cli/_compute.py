@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import sys
 
 from .._optional import PICTURES, MissingExtraError
 from .._version import __version__
