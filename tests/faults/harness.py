@@ -1,4 +1,4 @@
-"""The fault suite: each bad input or fault runs in a subprocess with a time limit.
+"""The fault suite's harness: each bad input or fault runs in a subprocess with a time limit.
 
 A crash (a signal such as SIGSEGV), a hang or a traceback then shows as a failed
 test with what the process printed, instead of taking the test run down with it.
