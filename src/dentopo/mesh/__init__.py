@@ -1,17 +1,18 @@
 """The input surface: reading a mesh, validating it, cleaning it, and its topology.
 
 Holds what every metric needs before it measures anything: reading a file or
-accepting ``(vertices, faces)`` (``_read``), the published cleaning steps and the
-unit-area working copy (``_prepare``), boundaries, consistent and outward
-orientation and the capping of holes (``_topology``), and a spatial order of
-points (``_spatial``).
+accepting ``(vertices, faces)`` (``_read``), the checks every mesh
+passes (finite coordinates, face indices in range: ``_validate``), tolerances
+relative to the mesh's size for merging vertices and dropping degenerate faces
+(``_tolerance``), the published cleaning steps and the unit-area working copy
+(``_prepare``), boundaries, consistent and outward orientation and the capping
+of holes (``_topology``), and a spatial order of points (``_spatial``).
 
 May import: numpy, scipy, numba, trimesh.  Nothing else of dentopo: it is the
 bottom layer.
 """
 
 from ._prepare import (
-    DEGENERATE_HEIGHT,
     PreparedMesh,
     clean,
     prepare,
@@ -20,17 +21,28 @@ from ._prepare import (
 )
 from ._read import as_arrays, check_geometry, load_mesh
 from ._spatial import spatial_order
+from ._tolerance import (
+    DEGENERATE_HEIGHT,
+    MERGE_SPACING,
+    length_scale,
+    merge_vertices,
+    nondegenerate_faces,
+)
 from ._topology import boundary_edges, close_holes, orient_consistently, outward_faces
 
 __all__ = [
     "DEGENERATE_HEIGHT",
+    "MERGE_SPACING",
     "PreparedMesh",
     "as_arrays",
     "boundary_edges",
     "check_geometry",
     "clean",
     "close_holes",
+    "length_scale",
     "load_mesh",
+    "merge_vertices",
+    "nondegenerate_faces",
     "orient_consistently",
     "outward_faces",
     "prepare",

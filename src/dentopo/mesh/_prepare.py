@@ -14,10 +14,8 @@ import numpy as np
 import trimesh
 
 from ._read import as_arrays
+from ._tolerance import length_scale, nondegenerate_faces
 from ._topology import boundary_edges, orient_consistently
-
-#: Faces whose height is below this (in the mesh's own units) are dropped.
-DEGENERATE_HEIGHT = 1e-8
 
 
 @dataclass(frozen=True)
@@ -75,24 +73,32 @@ def _may_have_small_holes(faces: np.ndarray, n_vertices: int) -> bool:
     return bool(np.any((loop_size > 0) & (loop_size < 5)))
 
 
-def clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
+def clean(vertices, faces) -> trimesh.Trimesh:
     """Clean a mesh as the published computation does, on a private copy.
 
     Fills trivially small holes (trimesh ``fill_holes``: three- and four-edge
-    holes), drops faces whose height is below ``DEGENERATE_HEIGHT``, drops
-    duplicate faces, drops non-finite values and unreferenced vertices.
+    holes), drops degenerate faces (not higher than ``DEGENERATE_HEIGHT``
+    median edge lengths: relative to the mesh, so the units do not matter),
+    drops duplicate faces and unreferenced vertices.  The input is validated
+    first (see :func:`as_arrays`): non-finite coordinates and indices outside
+    the vertices are errors, never dropped.
 
     Raises
     ------
     ValueError
-        If nothing usable is left.
+        If the input is invalid, or nothing usable is left.
     """
+    return _clean(*as_arrays((vertices, faces)))
+
+
+def _clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
+    """:func:`clean` for arrays that :func:`as_arrays` has validated."""
+    scale = length_scale(vertices, faces)
     mesh = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
     if _may_have_small_holes(faces, len(vertices)):
         mesh.fill_holes()
-    mesh.update_faces(mesh.nondegenerate_faces(height=DEGENERATE_HEIGHT))
+    mesh.update_faces(nondegenerate_faces(mesh.vertices, mesh.faces, scale=scale))
     mesh.update_faces(mesh.unique_faces())
-    mesh.remove_infinite_values()
     mesh.remove_unreferenced_vertices()
     if len(mesh.faces) == 0:
         raise ValueError("cleaning left the mesh empty: every face is degenerate")
@@ -132,7 +138,7 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def prepare(mesh) -> PreparedMesh:
     """Validate, clean and normalise any accepted mesh input (see `as_arrays`)."""
     vertices, faces = as_arrays(mesh)
-    cleaned = clean(vertices, faces)
+    cleaned = _clean(vertices, faces)
     v = np.asarray(cleaned.vertices, dtype=np.float64)
     # vertex normals need neighbouring faces to agree; a no-op for consistent meshes
     f = orient_consistently(np.asarray(cleaned.faces, dtype=np.int64), len(v))

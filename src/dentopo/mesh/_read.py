@@ -9,6 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
+from ._tolerance import merge_vertices
+from ._validate import check_finite, check_indices, plural
+
 #: ``geometry=ALL``: every mesh of a file, joined into one surface.
 ALL = "all"
 
@@ -72,13 +75,37 @@ class _Instance:
         return self.mesh.copy().apply_transform(self.transform)
 
 
-def _instances(scene: trimesh.Scene) -> list[_Instance]:
+def _checked(path: str, scene: trimesh.Scene) -> dict[str, trimesh.Trimesh]:
+    """Every triangle mesh of `scene` by name: validated, coincident vertices merged.
+
+    trimesh reads with ``process=False`` (nothing dropped): here non-finite
+    coordinates and indices outside the vertices are errors, and vertices are
+    merged with a tolerance relative to the mesh (see ``_tolerance``).
+    """
+    meshes = {}
+    several = sum(isinstance(g, trimesh.Trimesh) for g in scene.geometry.values()) > 1
+    for name, geometry in scene.geometry.items():
+        if not isinstance(geometry, trimesh.Trimesh):
+            continue
+        where = f"{path!r} (geometry {name!r}): " if several else f"{path!r}: "
+        vertices = np.asarray(geometry.vertices, dtype=np.float64)
+        faces = np.asarray(geometry.faces, dtype=np.int64).reshape(-1, 3)
+        check_finite(vertices, where=where)
+        check_indices(faces, len(vertices), where=where)
+        vertices, faces = merge_vertices(vertices, faces)
+        meshes[str(name)] = trimesh.Trimesh(
+            vertices, faces, process=False, metadata=dict(geometry.metadata)
+        )
+    return meshes
+
+
+def _instances(scene: trimesh.Scene, meshes: dict[str, trimesh.Trimesh]) -> list[_Instance]:
     """Every placement of a triangle mesh in `scene`, sorted by geometry name and node."""
     found = []
     for node in scene.graph.nodes_geometry:
         transform, name = scene.graph[node]
-        mesh = scene.geometry.get(name)
-        if isinstance(mesh, trimesh.Trimesh):
+        mesh = meshes.get(str(name))
+        if mesh is not None:
             found.append(_Instance(str(node), str(name), np.asarray(transform), mesh))
     return sorted(found, key=lambda i: (i.name, i.node))
 
@@ -112,7 +139,8 @@ def _join(instances: list[_Instance]) -> trimesh.Trimesh:
     """
     pieces = [i.world() for i in instances]
     joined = trimesh.util.concatenate(pieces) if len(pieces) > 1 else pieces[0]
-    return trimesh.Trimesh(vertices=joined.vertices, faces=joined.faces, process=True)
+    vertices, faces = merge_vertices(joined.vertices, joined.faces)
+    return trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
 
 
 def _choose(path: str, instances: list[_Instance], geometry: str | None) -> trimesh.Trimesh:
@@ -150,12 +178,15 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
     """Read a triangle mesh from a file, in world coordinates.
 
     Formats such as GLB/glTF, 3MF and OBJ can hold several meshes (a scene);
-    a mesh is never picked from several silently.
+    a mesh is never picked from several silently.  Nothing wrong is measured
+    silently either: a vertex with a NaN or infinite coordinate, or a face index
+    outside the vertices, is an error naming how many and the first.
 
     Parameters
     ----------
     path : str or path-like
-        A file in any format trimesh reads (PLY, OBJ, STL, OFF, GLB, ...).
+        A PLY file, or a file in any other format trimesh reads (OBJ, STL, OFF,
+        GLB, ...).
     geometry : str, optional
         Which mesh of the file to read.  By default the file must hold exactly
         one (placed once); several raise a ``ValueError`` that lists their names
@@ -168,16 +199,22 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
     Returns
     -------
     trimesh.Trimesh
-        The mesh, with its scene-graph transform applied (world coordinates)
-        and duplicate vertices merged (trimesh's default).
+        The mesh, with its scene-graph transform applied (world coordinates),
+        coincident vertices merged and vertices in no face dropped, as
+        trimesh's default loading does but with a tolerance relative to the
+        mesh's size (see :func:`dentopo.mesh.merge_vertices`).  Polygons are cut
+        into triangles as trimesh cuts them.
 
     Raises
     ------
     FileNotFoundError
         If the file does not exist.
     ValueError
-        If the file cannot be read, holds no triangle mesh, holds several and
-        `geometry` does not say which, or has no geometry of that name.
+        If the file cannot be read (truncated, counts that do not match the
+        data, ...), has non-finite coordinates or face indices outside the
+        vertices, holds no triangle mesh, holds several and `geometry` does not
+        say which, or has no geometry of that name.  The message is one line
+        naming the file.
 
     Examples
     --------
@@ -193,20 +230,55 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
         raise ValueError(f"{path!r} is a directory, not a mesh file")
     if os.path.getsize(path) == 0:
         raise ValueError(f"mesh file is empty: {path!r}")
-    options = _obj_options() if os.path.splitext(path)[1].lower() == ".obj" else {}
+    extension = os.path.splitext(path)[1].lower()
+    if extension == ".obj":
+        _check_obj_vertices(path)
+    options = _obj_options() if extension == ".obj" else {}
     try:
-        scene = trimesh.load(path, force="scene", **options)
+        scene = trimesh.load(path, force="scene", process=False, **options)
     except PermissionError:
         raise
     except Exception as exc:  # trimesh raises many types for corrupt files
         raise ValueError(f"could not read mesh file {path!r}: {exc}") from exc
-    instances = _instances(scene)
+    instances = _instances(scene, _checked(path, scene))
     if not instances:
         kinds = sorted({type(g).__name__ for g in scene.geometry.values()})
         if not kinds:
             raise ValueError(f"{path!r} holds no triangle mesh")
         raise ValueError(f"{path!r} holds no triangle mesh, only {' and '.join(kinds)} (no faces)")
     return _choose(path, instances, geometry)
+
+
+def _check_obj_vertices(path: str) -> None:
+    """Raise if a ``v`` line of an OBJ file holds NaN or infinity.
+
+    trimesh's OBJ reader drops vertices that no face uses before we see them, so
+    the file itself is scanned (only when "nan" or "inf" appears in it at all).
+    """
+    with open(path, "rb") as handle:
+        data = handle.read()
+    lowered = data.lower()
+    if b"nan" not in lowered and b"inf" not in lowered:
+        return
+    vertex, bad = 0, []
+    for number, line in enumerate(data.split(b"\n"), start=1):
+        words = line.split()
+        if not words or words[0] != b"v":
+            continue
+        vertex += 1
+        try:
+            finite = all(np.isfinite(float(word)) for word in words[1:4])
+        except ValueError:
+            continue  # trimesh reports what it cannot read
+        if not finite:
+            bad.append((vertex, number))
+    if bad:
+        verb = "has" if len(bad) == 1 else "have"
+        raise ValueError(
+            f"{path!r}: {plural(len(bad), 'vertex', 'vertices')} {verb} non-finite (NaN or "
+            f"infinite) coordinates, the first is vertex {bad[0][0]} on line {bad[0][1]} "
+            "(OBJ counts vertices from 1)"
+        )
 
 
 def as_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
@@ -253,9 +325,7 @@ def as_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError(f"vertices must have shape (n, 3); got {vertices.shape}")
     if len(vertices) < 4:
         raise ValueError(f"the mesh has {len(vertices)} vertices; at least 4 are needed")
-    if not np.all(np.isfinite(vertices)):
-        bad = int(np.count_nonzero(~np.isfinite(vertices).all(axis=1)))
-        raise ValueError(f"{bad} vertices have non-finite (NaN or infinite) coordinates")
+    check_finite(vertices)
     if faces_in.size == 0:
         raise ValueError("the mesh has no faces (a point cloud): a triangle mesh is needed")
     if faces_in.ndim != 2 or faces_in.shape[1] != 3:
@@ -266,9 +336,5 @@ def as_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
         ):
             raise TypeError(f"faces must hold integer vertex indices; got {faces_in.dtype}")
     faces = faces_in.astype(np.int64, copy=True)
-    if faces.min() < 0 or faces.max() >= len(vertices):
-        raise ValueError(
-            f"face indices must lie in [0, {len(vertices) - 1}]; "
-            f"found {int(faces.min())}..{int(faces.max())}"
-        )
+    check_indices(faces, len(vertices))
     return vertices, faces
