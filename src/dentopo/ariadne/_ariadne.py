@@ -94,10 +94,11 @@ def ariaDNE(  # noqa: N802 -- the paper's name
     ----------
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
         A triangle mesh.  A path is read with :func:`dentopo.mesh.load_mesh`
-        (trimesh's reader, duplicate vertices merged, in world coordinates); a
-        file holding several meshes raises, so pick one with
-        ``ariaDNE(load_mesh(path, geometry=NAME))``.  Arrays are used as given
-        (no vertex merging).  Never modified.
+        (strictly: a damaged file is an error; coincident vertices merged, in
+        world coordinates); a file holding several meshes raises, so pick one
+        with ``ariaDNE(load_mesh(path, geometry=NAME))``.  Arrays and meshes
+        are used as given (no vertex merging), after checking that coordinates
+        are finite and face indices in range.  Never modified.
     bandwidth : float, default 0.08
         Gaussian kernel bandwidth ``h`` on the unit-area scale; weights are
         ``exp(-d**2 / h**2)``.  Larger values measure coarser features.

@@ -1,8 +1,9 @@
 """The input surface: reading a mesh, validating it, cleaning it, and its topology.
 
 Holds what every metric needs before it measures anything: reading a file or
-accepting ``(vertices, faces)`` (``_read``), the checks every mesh
-passes (finite coordinates, face indices in range: ``_validate``), tolerances
+accepting ``(vertices, faces)`` (``_read``; PLY by our strict reader, ``_ply``),
+the checks every mesh passes (finite coordinates, face indices in range:
+``_validate``), tolerances
 relative to the mesh's size for merging vertices and dropping degenerate faces
 (``_tolerance``), the published cleaning steps and the unit-area working copy
 (``_prepare``), boundaries, consistent and outward orientation and the capping
@@ -12,6 +13,7 @@ May import: numpy, scipy, numba, trimesh.  Nothing else of dentopo: it is the
 bottom layer.
 """
 
+from ._ply import read_ply
 from ._prepare import (
     PreparedMesh,
     clean,
@@ -46,6 +48,7 @@ __all__ = [
     "orient_consistently",
     "outward_faces",
     "prepare",
+    "read_ply",
     "spatial_order",
     "vertex_areas",
     "vertex_normals",

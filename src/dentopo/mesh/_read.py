@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
+from ._ply import read_ply
 from ._tolerance import merge_vertices
 from ._validate import check_finite, check_indices, plural
 
@@ -179,7 +180,9 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
 
     Formats such as GLB/glTF, 3MF and OBJ can hold several meshes (a scene);
     a mesh is never picked from several silently.  Nothing wrong is measured
-    silently either: a vertex with a NaN or infinite coordinate, or a face index
+    silently either: PLY files are read by dentopo's strict reader (a file cut
+    short, or whose header counts disagree with its data, is an error), and in
+    every format a vertex with a NaN or infinite coordinate, or a face index
     outside the vertices, is an error naming how many and the first.
 
     Parameters
@@ -231,6 +234,8 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
     if os.path.getsize(path) == 0:
         raise ValueError(f"mesh file is empty: {path!r}")
     extension = os.path.splitext(path)[1].lower()
+    if extension == ".ply":
+        return _choose(path, _ply_instances(path), geometry)
     if extension == ".obj":
         _check_obj_vertices(path)
     options = _obj_options() if extension == ".obj" else {}
@@ -247,6 +252,23 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
             raise ValueError(f"{path!r} holds no triangle mesh")
         raise ValueError(f"{path!r} holds no triangle mesh, only {' and '.join(kinds)} (no faces)")
     return _choose(path, instances, geometry)
+
+
+def _ply_instances(path: str) -> list[_Instance]:
+    """A PLY file as the one placement of one mesh, read by our strict reader and merged."""
+    vertices, faces = read_ply(path)
+    if len(vertices) == 0:
+        raise ValueError(f"{path!r} holds no triangle mesh (no vertices)")
+    if len(faces) == 0:
+        raise ValueError(
+            f"{path!r} holds no triangle mesh, only PointCloud "
+            f"({plural(len(vertices), 'vertex', 'vertices')}, no faces)"
+        )
+    vertices, faces = merge_vertices(vertices, faces)
+    name = os.path.basename(path)
+    metadata = {"file_name": name, "file_path": os.path.abspath(path)}
+    mesh = trimesh.Trimesh(vertices, faces, process=False, metadata=metadata)
+    return [_Instance(name, name, np.eye(4), mesh)]
 
 
 def _check_obj_vertices(path: str) -> None:
