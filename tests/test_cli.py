@@ -15,6 +15,7 @@ import trimesh
 from dentopo import COLUMNS, __version__, ariaDNE
 from dentopo.cli import SUBCOMMANDS, _progress, main
 from dentopo.cli import _compute as _cli
+from dentopo.formats import read_journal
 from dentopo.samples import tooth
 
 
@@ -265,7 +266,14 @@ def test_a_failed_write_keeps_the_old_output(tmp_path, capsys, monkeypatch):
     assert main([str(mesh), "-o", str(out)]) == 1
     assert "No space left" in capsys.readouterr().err
     assert out.read_text() == "precious results\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.ply", "out.csv"]  # no temp file
+    # no temporary file; the row computed is kept in the journal for --resume
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "a.ply",
+        "out.csv",
+        "out.csv.partial.jsonl",
+    ]
+    [row] = read_journal(tmp_path / "out.csv.partial.jsonl")[0]
+    assert row["status"] == "ok" and row["dne"] == ariaDNE(str(mesh)).dne
 
 
 def test_ctrl_c_keeps_the_rows_already_done(tmp_path, capsys, monkeypatch):
