@@ -143,8 +143,11 @@ def current_guard() -> InterruptGuard | None:
 def guard_interrupts(*signums: int) -> Iterator[InterruptGuard]:
     """Guard `signums` (default SIGINT) for the duration of the block.
 
-    If a guard is already installed that covers them, it is reused (so that the
-    command line's guard, which also covers SIGTERM, stays in charge).
+    A guarded signal raises :class:`Interrupted` at once, unless numba's own
+    code runs (or the guard is held); such a signal is raised by the next
+    :meth:`InterruptGuard.check`, or as the block ends.  If a guard covering
+    `signums` is installed already, it is reused (so that the command line's
+    guard, which also covers SIGTERM, stays in charge).
     """
     signums = signums or (signal.SIGINT,)
     outer = current_guard()
@@ -159,6 +162,7 @@ def guard_interrupts(*signums: int) -> Iterator[InterruptGuard]:
     finally:
         _CURRENT.remove(guard)
         guard.uninstall()
+    guard.check()  # a signal that came where it could not be raised (not after an exception)
 
 
 #: Signals that worker processes ignore: the parent stops them itself.

@@ -58,7 +58,7 @@ def death_reason(exitcode: int | None) -> str:
             name = signal.Signals(-exitcode).name
         except ValueError:
             name = f"signal {-exitcode}"
-        hint = " (out of memory?)" if -exitcode == signal.SIGKILL else ""
+        hint = " (out of memory?)" if -exitcode == getattr(signal, "SIGKILL", 9) else ""
         return f"worker process killed by {name}{hint}"
     return f"worker process exited unexpectedly (exit code {exitcode})"
 

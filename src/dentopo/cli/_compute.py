@@ -429,13 +429,15 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     # a compiled kernel; the rows done are written, and the exit code is 130.
     with guard_interrupts(signal.SIGINT, signal.SIGTERM) as guard:
         try:
-            return _run(args, files, settings, per_vertex, scheduler, render, output, guard)
+            code = _run(args, files, settings, per_vertex, scheduler, render, output, guard)
         except KeyboardInterrupt as exc:  # before the first mesh: waiting for the lock, ...
             _say(f"{_interruption(exc)} before any file was computed")
-            return INTERRUPTED
+            code = INTERRUPTED
         finally:
             if output is not None:
                 output.close()
+        guard.pending = None  # everything is done and said
+    return code
 
 
 #: The exit code of a run stopped by Ctrl-C or SIGTERM (the rows done are written).
@@ -455,6 +457,10 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
     if output is not None:
         try:
             output.lock()
+        except OSError as exc:
+            _say(f"cannot lock {args.output!r} for this run: {exc}")
+            return 2
+        try:
             output.recover()
         except (OSError, ValueError) as exc:
             _say(f"cannot add the rows of an earlier run kept in {output.journal_path!r}: {exc}")

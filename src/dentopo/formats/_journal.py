@@ -57,9 +57,10 @@ class Journal:
         self.sync = sync
         self._fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_APPEND, 0o666)
         try:
-            size = os.fstat(self._fd).st_size
-            if size and os.pread(self._fd, 1, size - 1) != b"\n":
-                self._write(b"\n")
+            if os.lseek(self._fd, 0, os.SEEK_END):
+                os.lseek(self._fd, -1, os.SEEK_END)
+                if os.read(self._fd, 1) != b"\n":  # writes go to the end (O_APPEND)
+                    self._write(b"\n")
         except BaseException:
             os.close(self._fd)
             raise
