@@ -204,6 +204,26 @@ def test_a_held_guard_keeps_the_signal_for_later():
             guard.check()
 
 
+def test_an_interrupt_swallowed_by_library_code_stops_the_batch_without_a_row(
+    tmp_path, monkeypatch
+):
+    from dentopo.batch import _runner, make_settings, plan_batch, run_tasks
+
+    def swallowing_reader(mesh, **options):  # as trimesh's loader does with a Ctrl-C
+        try:
+            signal.raise_signal(signal.SIGINT)
+        except BaseException:
+            raise ValueError("string is not a file") from None
+
+    monkeypatch.setattr(_runner, "ariaDNE", swallowing_reader)
+    tasks = plan_batch([str(tmp_path / "a.ply"), str(tmp_path / "b.ply")], make_settings())
+    got = []
+    with pytest.raises(KeyboardInterrupt):
+        for outcome in run_tasks(tasks, make_settings()):
+            got.append(outcome)
+    assert got == []  # no wrong error row for a file that was only interrupted
+
+
 def test_a_dead_workers_reason_names_the_signal():
     assert death_reason(-signal.SIGKILL) == "worker process killed by SIGKILL (out of memory?)"
     assert death_reason(-signal.SIGSEGV) == "worker process killed by SIGSEGV"

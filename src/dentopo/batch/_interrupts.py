@@ -15,6 +15,13 @@ own Python code is running (then it only records the signal, and
 :meth:`InterruptGuard.check`, called at the next safe point such as the start of
 an ariaDNE phase or of the next mesh, raises it) or the guard is *held* (a
 critical section such as appending a finished row; checked when it ends).
+
+Raising at once is prompt (a Ctrl-C while a large file is read stops the
+reading), but third-party code that catches every exception can swallow it:
+trimesh's loader turns it into "string is not a file".  The guard remembers
+what it raised (:attr:`InterruptGuard.raised`), so that the runner can tell
+that a mesh was interrupted although it came back, and raise again instead of
+keeping a row that cannot be trusted.
 """
 
 from __future__ import annotations
@@ -87,6 +94,7 @@ class InterruptGuard:
     def __init__(self, signums: tuple[int, ...]):
         self.signums = tuple(signums)
         self.pending: int | None = None  # the first guarded signal not yet raised
+        self.raised: int | None = None  # the last signal raised (see check)
         self.active = False
         self._held = 0
         self._previous: dict[int, object] = {}
@@ -116,9 +124,15 @@ class InterruptGuard:
         self.active = False
 
     def check(self) -> None:
-        """Raise :class:`Interrupted` if a guarded signal arrived (and the guard is not held)."""
+        """Raise :class:`Interrupted` if a guarded signal arrived (and the guard is not held).
+
+        The signal raised is remembered in :attr:`raised`: code that catches
+        every exception (trimesh's loader does) may swallow the interrupt, and
+        the caller can then tell (reset it to None first) and raise it again.
+        """
         if self.pending is not None and not self._held:
             signum, self.pending = self.pending, None
+            self.raised = signum
             raise Interrupted(signum)
 
     @contextlib.contextmanager

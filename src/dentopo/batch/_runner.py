@@ -40,7 +40,7 @@ from ..formats import (
 from ..mesh import check_geometry, load_mesh
 from ..sign import check_sign_method
 from ._inputs import find_mesh_files
-from ._interrupts import guard_interrupts
+from ._interrupts import Interrupted, guard_interrupts
 from ._pool import run_pool
 
 #: ``progress(done, total, record)`` is called after each file.
@@ -196,18 +196,28 @@ def _run_here(
 
     A Ctrl-C that arrives while a compiled kernel runs would otherwise crash
     the process (see :mod:`._interrupts`); the guard raises it between meshes
-    and as each phase of a mesh starts instead, and at once elsewhere.
+    and as each phase of a mesh starts instead, and at once elsewhere.  A
+    mesh whose interrupt was swallowed (trimesh's loader catches every
+    exception) is not kept: the interrupt is raised again.
     """
     with guard_interrupts() as guard:
 
+        def swallowed() -> None:
+            if guard.raised is not None:  # raised in the mesh, and caught by library code
+                raise Interrupted(guard.raised)
+
         def phase(file: str, name: str) -> None:
             guard.check()
+            swallowed()
             if on_phase is not None:
                 on_phase(file, name)
 
         for task in tasks:
             guard.check()
-            yield compute_task(task, settings, phase)  # the row is kept before stopping
+            guard.raised = None
+            outcome = compute_task(task, settings, phase)
+            swallowed()  # then its row (an error, or worse) cannot be trusted: stop without it
+            yield outcome  # the row is kept before stopping
         guard.check()
 
 
