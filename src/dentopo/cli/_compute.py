@@ -585,6 +585,8 @@ def _write(args, output, files, tasks, previous, outcomes, interrupted, unrecord
     if args.output == STDOUT:
         write_table(sys.stdout, records, columns=columns)
         sys.stdout.flush()
+    elif output is not None and not new and interrupted is not None:
+        output.discard_journal()  # nothing done, nothing to write
     elif output is not None and not computed and os.path.exists(args.output):
         if tasks:  # every file failed (or none was reached): keep the old table as it is
             _say(f"no mesh was computed: {args.output} left as it was")
