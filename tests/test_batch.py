@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import os
+import signal
 
+import numba
 import numpy as np
 import pytest
 import trimesh
 
 from dentopo import COLUMNS, ariaDNE, compute_batch, find_mesh_files, to_dataframe
+from dentopo.batch import Interrupted, guard_interrupts
+from dentopo.batch._pool import death_reason
 from dentopo.formats import atomic_write, read_table, write_table
 from dentopo.samples import tooth
 
@@ -156,3 +160,71 @@ def test_caller_list_is_not_modified(folder):
     records = compute_batch(paths)
     assert paths == copy
     assert np.isfinite([r["dne"] for r in records]).all()
+
+
+# --- interrupts and dead workers (the subprocess cases are in tests/faults) -------------------
+
+#: Code that raises SIGINT as if it ran inside numba (where numba boxes a kernel's results).
+IN_NUMBA = compile(
+    "signal.raise_signal(signal.SIGINT)",
+    os.path.join(os.path.dirname(numba.__file__), "boxing.py"),
+    "exec",
+)
+
+
+def test_the_guard_raises_a_signal_at_once_outside_numba():
+    before = signal.getsignal(signal.SIGINT)
+    with guard_interrupts():
+        with pytest.raises(Interrupted) as caught:
+            signal.raise_signal(signal.SIGINT)
+    assert isinstance(caught.value, KeyboardInterrupt) and caught.value.name == "SIGINT"
+    assert signal.getsignal(signal.SIGINT) is before  # restored
+
+
+def test_the_guard_defers_a_signal_inside_numba_to_the_next_check():
+    with guard_interrupts() as guard:
+        exec(IN_NUMBA, {"signal": signal})  # not raised in numba's code
+        assert guard.pending == signal.SIGINT
+        with pytest.raises(Interrupted):
+            guard.check()
+        guard.check()  # raised once
+
+
+def test_the_guard_raises_a_deferred_signal_as_the_block_ends():
+    with pytest.raises(Interrupted):
+        with guard_interrupts():
+            exec(IN_NUMBA, {"signal": signal})
+
+
+def test_a_held_guard_keeps_the_signal_for_later():
+    with guard_interrupts() as guard:
+        with guard.held():
+            signal.raise_signal(signal.SIGINT)  # in a critical section: kept
+        with pytest.raises(Interrupted):
+            guard.check()
+
+
+def test_an_interrupt_swallowed_by_library_code_stops_the_batch_without_a_row(
+    tmp_path, monkeypatch
+):
+    from dentopo.batch import _runner, make_settings, plan_batch, run_tasks
+
+    def swallowing_reader(mesh, **options):  # as trimesh's loader does with a Ctrl-C
+        try:
+            signal.raise_signal(signal.SIGINT)
+        except BaseException:
+            raise ValueError("string is not a file") from None
+
+    monkeypatch.setattr(_runner, "ariaDNE", swallowing_reader)
+    tasks = plan_batch([str(tmp_path / "a.ply"), str(tmp_path / "b.ply")], make_settings())
+    got = []
+    with pytest.raises(KeyboardInterrupt):
+        for outcome in run_tasks(tasks, make_settings()):
+            got.append(outcome)
+    assert got == []  # no wrong error row for a file that was only interrupted
+
+
+def test_a_dead_workers_reason_names_the_signal():
+    assert death_reason(-signal.SIGKILL) == "worker process killed by SIGKILL (out of memory?)"
+    assert death_reason(-signal.SIGSEGV) == "worker process killed by SIGSEGV"
+    assert death_reason(3) == "worker process exited unexpectedly (exit code 3)"

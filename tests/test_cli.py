@@ -15,6 +15,7 @@ import trimesh
 from dentopo import COLUMNS, __version__, ariaDNE
 from dentopo.cli import SUBCOMMANDS, _progress, main
 from dentopo.cli import _compute as _cli
+from dentopo.formats import Journal, read_journal, read_table
 from dentopo.samples import tooth
 
 
@@ -265,7 +266,14 @@ def test_a_failed_write_keeps_the_old_output(tmp_path, capsys, monkeypatch):
     assert main([str(mesh), "-o", str(out)]) == 1
     assert "No space left" in capsys.readouterr().err
     assert out.read_text() == "precious results\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.ply", "out.csv"]  # no temp file
+    # no temporary file; the row computed is kept in the journal for --resume
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "a.ply",
+        "out.csv",
+        "out.csv.partial.jsonl",
+    ]
+    [row] = read_journal(tmp_path / "out.csv.partial.jsonl")[0]
+    assert row["status"] == "ok" and row["dne"] == ariaDNE(str(mesh)).dne
 
 
 def test_ctrl_c_keeps_the_rows_already_done(tmp_path, capsys, monkeypatch):
@@ -290,6 +298,24 @@ def test_ctrl_c_keeps_the_rows_already_done(tmp_path, capsys, monkeypatch):
     after = json.loads(out.read_text())
     assert after[0]["dne"] == ariaDNE(str(tmp_path / "a.ply")).dne  # done before Ctrl-C
     assert after[1:] == before[1:]  # not reached: the old rows are kept
+
+
+def test_the_rows_of_a_killed_run_are_added_back_by_the_next_run(tmp_path, capsys):
+    a, b = small_sphere(tmp_path / "a.ply"), small_tooth(tmp_path / "b.ply")
+    out = tmp_path / "out.csv"
+    assert main([str(a), "-o", str(out), "-q"]) == 0
+    assert main([str(b), "-o", str(tmp_path / "b.json"), "-q"]) == 0
+    [row_b] = read_table(tmp_path / "b.json")
+    with Journal(tmp_path / "out.csv.partial.jsonl") as journal:  # as a killed run leaves it
+        journal.append(row_b)
+    capsys.readouterr()
+    assert main([str(a), str(b), "-o", str(out), "--resume"]) == 0
+    err = capsys.readouterr().err
+    assert "added 1 rows of an earlier run" in err
+    assert "resuming: 2 of 2 files already done" in err
+    assert [r["file"] for r in read_table(out)] == [str(a), str(b)]
+    assert read_table(out)[1] == row_b
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.ply", "b.json", "b.ply", "out.csv"]
 
 
 def test_per_vertex_files(tmp_path):

@@ -3,13 +3,15 @@
 ``_inputs`` turns files, folders and glob patterns into a sorted list of mesh
 files; ``_runner`` computes them (one process, a local pool of workers, or a
 Dask cluster), one record per file, resumable, one bad file never stopping the
-batch.
+batch.  ``_pool`` is the local pool, which survives a worker's death;
+``_interrupts`` makes Ctrl-C stop a batch at a safe point, never inside numba.
 
 May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topography`,
 :mod:`dentopo.formats`.  Nothing from figures, study or cli.
 """
 
 from ._inputs import MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
+from ._interrupts import Interrupted, guard_interrupts
 from ._runner import (
     Outcome,
     Settings,
@@ -31,6 +33,7 @@ from ._runner import (
 __all__ = [
     "MESH_EXTENSIONS",
     "FoundInputs",
+    "Interrupted",
     "Outcome",
     "Settings",
     "Task",
@@ -41,6 +44,7 @@ __all__ = [
     "error_reason",
     "error_record",
     "find_mesh_files",
+    "guard_interrupts",
     "is_own_output",
     "make_settings",
     "merge_records",

@@ -9,14 +9,16 @@ When meshes run side by side (several processes, or a cluster) each uses one
 numba thread, so that the cores are not oversubscribed; a single process uses
 numba's default.  Records do not depend on either choice (tests/test_batch.py
 checks ``jobs=2`` against ``jobs=1`` bit for bit).
+
+Local workers are a pool of our own (:mod:`._pool`) that survives the death of
+a worker: only the file that worker held gets an error row.  In this process,
+Ctrl-C is raised only at safe points, never while a compiled kernel returns
+(:mod:`._interrupts`).
 """
 
 from __future__ import annotations
 
-import contextlib
 import os
-import signal
-import threading
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -38,6 +40,8 @@ from ..formats import (
 from ..mesh import check_geometry, load_mesh
 from ..sign import check_sign_method
 from ._inputs import find_mesh_files
+from ._interrupts import Interrupted, guard_interrupts
+from ._pool import run_pool
 
 #: ``progress(done, total, record)`` is called after each file.
 ProgressCallback = Callable[[int, int, dict], None]
@@ -180,64 +184,53 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
     return Outcome(task.index, record, messages, result if task.keep_result else None)
 
 
-def _ignore_interrupts() -> None:
-    """Worker initialiser: Ctrl-C is handled by the parent, which stops the workers."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+def _failed(task: Task, reason: str, seconds: float | None = None) -> Outcome:
+    """The outcome of a task whose worker died (or whose result could not travel back)."""
+    return Outcome(task.index, error_record(task.file, reason, seconds))
 
 
-@contextlib.contextmanager
-def _interrupts_ignored():
-    """Ignore SIGINT in this process for a moment (processes started meanwhile inherit it)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
+def _run_here(
+    tasks: Sequence[Task], settings: Settings, on_phase: PhaseCallback | None = None
+) -> Iterator[Outcome]:
+    """The meshes one after the other in this process, Ctrl-C raised only at safe points.
+
+    A Ctrl-C that arrives while a compiled kernel runs would otherwise crash
+    the process (see :mod:`._interrupts`); the guard raises it between meshes
+    and as each phase of a mesh starts instead, and at once elsewhere.  A
+    mesh whose interrupt was swallowed (trimesh's loader catches every
+    exception) is not kept: the interrupt is raised again.
+    """
+    with guard_interrupts() as guard:
+
+        def swallowed() -> None:
+            if guard.raised is not None:  # raised in the mesh, and caught by library code
+                raise Interrupted(guard.raised)
+
+        def phase(file: str, name: str) -> None:
+            guard.check()
+            swallowed()
+            if on_phase is not None:
+                on_phase(file, name)
+
+        for task in tasks:
+            guard.check()
+            guard.raised = None
+            outcome = compute_task(task, settings, phase)
+            swallowed()  # then its row (an error, or worse) cannot be trusted: stop without it
+            yield outcome  # the row is kept before stopping
+        guard.check()
 
 
 def _run_local(
     tasks: Sequence[Task], settings: Settings, jobs: int, on_phase: PhaseCallback | None = None
 ) -> Iterator[Outcome]:
     if jobs <= 1 or len(tasks) <= 1:
-        for task in tasks:
-            yield compute_task(task, settings, on_phase)
+        yield from _run_here(tasks, settings, on_phase)
         return
-
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    from concurrent.futures.process import BrokenProcessPool
-
-    # spawn, not fork: numba's OpenMP threading layer is not fork-safe
-    pool = ProcessPoolExecutor(
-        max_workers=min(jobs, len(tasks)),
-        mp_context=multiprocessing.get_context("spawn"),
-        initializer=_ignore_interrupts,
-    )
+    workers = min(jobs, len(tasks))
     if settings.threads is None:  # share the cores among the workers
-        settings = replace(settings, threads=max(1, available_cores() // min(jobs, len(tasks))))
-    with _interrupts_ignored():  # workers start with Ctrl-C ignored, even while importing
-        futures = {pool.submit(compute_task, task, settings): task for task in tasks}
-    finished = False
-    try:
-        for future in as_completed(futures):
-            try:
-                yield future.result()
-            except BrokenProcessPool as exc:  # a worker crashed, or could not start
-                task = futures[future]
-                reason = f"worker process failed ({exc}); rerun with --resume to retry"
-                yield Outcome(task.index, error_record(task.file, " ".join(reason.split())))
-        finished = True
-    finally:
-        if not finished:  # Ctrl-C, or the consumer stopped early: stop the workers now
-            processes = list((getattr(pool, "_processes", None) or {}).values())
-            pool.shutdown(wait=False, cancel_futures=True)
-            for process in processes:  # a running mesh may take long: do not wait for it
-                if process.is_alive():
-                    process.terminate()
-        pool.shutdown(wait=True)
+        settings = replace(settings, threads=max(1, available_cores() // workers))
+    yield from run_pool(tasks, compute_task, (settings,), workers=workers, failed=_failed)
 
 
 def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[Outcome]:
@@ -335,6 +328,8 @@ def run_tasks(
     ``on_phase`` reports the phases within each mesh; it is only called when
     the meshes run one at a time in this process (``jobs=1``, no scheduler).
     Closing the iterator early (or Ctrl-C while iterating) stops the workers.
+    A local worker that dies (killed by the out-of-memory killer, say) costs
+    only the file it held, whose record says so.
     """
     if scheduler is not None:
         return _run_dask(tasks, settings, scheduler)

@@ -5,9 +5,13 @@ the table (:mod:`dentopo.formats`) and, if asked, draws the curvature
 (:mod:`dentopo.figures`, whose pyvista is imported only then).  Only the CLI
 prints: results to stdout or files, messages and progress to stderr.
 
-Exit codes: 0 all files ok; 1 some file failed (or the display is unavailable);
-2 usage error (including "no mesh files found" and a missing extra, checked
-before any file is computed); 130 interrupted.
+Exit codes: 0 all files ok; 1 some file failed (or the display is unavailable,
+or the table could not be written); 2 usage error (including "no mesh files
+found", an output that cannot be written and a missing extra, checked before
+any file is computed); 130 interrupted by Ctrl-C or SIGTERM (the rows done are
+written).  With ``-o FILE`` each finished row is also kept in a journal beside
+FILE as it finishes, so that a run killed outright loses only the meshes in
+flight (see :mod:`._output`).
 """
 
 from __future__ import annotations
@@ -15,16 +19,19 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import signal
 import sys
 
 from .._optional import PICTURES, MissingExtraError
 from .._version import __version__
 from ..ariadne import METHODS
 from ..batch import (
+    Interrupted,
     Outcome,
     available_cores,
     check_extras,
     find_mesh_files,
+    guard_interrupts,
     make_settings,
     merge_records,
     plan_batch,
@@ -44,6 +51,7 @@ from ..formats import (
 )
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
+from ._output import TableOutput, directory_problem, writable_problem
 from ._progress import PROG, Progress
 from ._progress import say as _say
 from ._table import print_layout, print_table
@@ -74,9 +82,19 @@ negative_dne, surface_area, positive_surface_area, negative_surface_area,
 vertices, faces, bandwidth, cutoff, distance_type, sign_method, method,
 seconds, status, error
 
-exit codes: 0 all files ok, 1 some file failed, 2 usage error (also: no mesh
-files found, or an extra the options need is not installed), 130 interrupted
-(rows already done are kept).
+exit codes:
+  0    every file ok
+  1    some file failed (its row says why), or the table could not be written
+  2    usage error, found before any file is computed: bad options, no mesh
+       files found, an extra the options need is not installed, an --output
+       that cannot be written
+  130  interrupted by Ctrl-C or SIGTERM: the rows done are written; rerun with
+       --resume to finish
+
+with -o FILE each finished row is kept in FILE.partial.jsonl as it finishes and
+FILE is written at the end, so a run killed outright (SIGKILL, out of memory)
+loses only the meshes in flight: the next run on FILE adds them back. Two runs
+on the same FILE take turns: the second waits for the first.
 """
 
 
@@ -230,11 +248,14 @@ def _check_usage(args) -> str | None:
             return str(exc)
         except ImportError as exc:  # the format's optional dependency (openpyxl for .xlsx)
             return str(exc)
-        directory = os.path.dirname(os.path.abspath(args.output))
-        if not os.path.isdir(directory):
-            return f"the output's directory {directory!r} does not exist (create it first)"
         if os.path.isdir(args.output):
             return f"--output {args.output!r} is a directory; give a file ({', '.join(FORMATS)})"
+        directory = os.path.dirname(os.path.abspath(args.output))
+        if not os.path.exists(directory):
+            return f"the output's directory {directory!r} does not exist (create it first)"
+        problem = writable_problem(args.output, "--output")  # now, not after the last mesh
+        if problem:
+            return problem
     if args.resume and args.output is None:
         return "--resume needs --output (the table to resume)"
     if args.resume and args.output == STDOUT:
@@ -249,6 +270,10 @@ def _check_usage(args) -> str | None:
     if args.per_vertex is not None and os.path.exists(args.per_vertex):
         if not os.path.isdir(args.per_vertex):
             return f"--per-vertex {args.per_vertex!r} exists and is not a directory"
+    if args.per_vertex is not None:
+        problem = directory_problem(args.per_vertex, "--per-vertex")
+        if problem:
+            return problem
     if args.panel is not None and os.path.splitext(args.panel)[1].lower() not in (".png", ".html"):
         return "--panel must end in .png or .html"
     if args.screenshot is not None and not args.screenshot.lower().endswith(".png"):
@@ -397,7 +422,49 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     if rendering and render is None:
         return 2
 
+    output = None
+    if args.output not in (None, STDOUT):
+        output = TableOutput(args.output, layout(args.columns), quiet=args.quiet)
+    # Ctrl-C and SIGTERM (a scheduler's time limit) stop the run at a safe point, never inside
+    # a compiled kernel; the rows done are written, and the exit code is 130.
+    with guard_interrupts(signal.SIGINT, signal.SIGTERM) as guard:
+        try:
+            code = _run(args, files, settings, per_vertex, scheduler, render, output, guard)
+        except KeyboardInterrupt as exc:  # before the first mesh: waiting for the lock, ...
+            _say(f"{_interruption(exc)} before any file was computed")
+            code = INTERRUPTED
+        finally:
+            if output is not None:
+                output.close()
+        guard.pending = None  # everything is done and said
+    return code
+
+
+#: The exit code of a run stopped by Ctrl-C or SIGTERM (the rows done are written).
+INTERRUPTED = 130
+
+
+def _interruption(exc: BaseException) -> str:
+    """``interrupted`` (Ctrl-C) or ``interrupted (SIGTERM)``."""
+    name = getattr(exc, "name", "SIGINT")
+    return "interrupted" if name == "SIGINT" else f"interrupted ({name})"
+
+
+def _run(args, files, settings, per_vertex, scheduler, render, output, guard) -> int:
+    """Compute the batch and write its table; the exit code."""
+    rendering = render is not None
     previous: list[dict] = []
+    if output is not None:
+        try:
+            output.lock()
+        except OSError as exc:
+            _say(f"cannot lock {args.output!r} for this run: {exc}")
+            return 2
+        try:
+            output.recover()
+        except (OSError, ValueError) as exc:
+            _say(f"cannot add the rows of an earlier run kept in {output.journal_path!r}: {exc}")
+            return 2
     if args.resume:
         if os.path.exists(args.output):
             try:
@@ -415,7 +482,17 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         _say(f"resuming: {len(files) - len(todo)} of {len(files)} files already done")
 
     if args.per_vertex is not None:
-        os.makedirs(args.per_vertex, exist_ok=True)
+        try:
+            os.makedirs(args.per_vertex, exist_ok=True)
+        except OSError as exc:
+            _say(f"cannot create --per-vertex {args.per_vertex!r}: {exc}")
+            return 2
+    if output is not None and todo:
+        try:
+            output.start_journal()
+        except OSError as exc:
+            _say(f"cannot write {output.journal_path!r}: {exc}")
+            return 2
     jobs = args.jobs or available_cores()
     tasks = plan_batch(
         todo,
@@ -428,16 +505,25 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
 
     progress = Progress(len(tasks), quiet=args.quiet)
     outcomes: dict[int, Outcome] = {}
-    interrupted = False
+    interrupted: BaseException | None = None
+    unrecorded: OSError | None = None
     running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
     try:
         for outcome in running:
             outcomes[outcome.index] = outcome
+            try:
+                with guard.held():  # a row is appended whole
+                    if output is not None:
+                        output.record(outcome.record)
+            except OSError as exc:  # a full disk: the rows could not be kept, so stop
+                unrecorded = exc
+                break
             for message in outcome.warnings:
                 progress.message(f"{outcome.record['file']}: warning: {message}")
             progress.update(outcome.record)
-    except KeyboardInterrupt:
-        interrupted = True
+            guard.check()
+    except KeyboardInterrupt as exc:
+        interrupted = exc
     except MissingExtraError as exc:  # found only when running (installed but incomplete)
         progress.close()
         _say(str(exc))
@@ -447,13 +533,42 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         _say(f"cannot run on scheduler {scheduler!r}: {exc}" if scheduler else str(exc))
         return 2
     finally:
-        running.close()  # stops the workers, also on Ctrl-C
-        progress.close()
+        with guard.held():
+            running.close()  # stops the workers, also on Ctrl-C
+            progress.close()
 
+    with guard.held():  # the table is written whole, even if Ctrl-C comes now
+        code = _write(args, output, files, tasks, previous, outcomes, interrupted, unrecorded)
+    if interrupted is None and guard.pending is not None:  # came while writing: rows are safe
+        interrupted = Interrupted(guard.pending)
+        guard.pending = None
+        _say(f"{_interruption(interrupted)} after the table was written")
+    if interrupted is not None:
+        return INTERRUPTED
+    if code or not rendering:
+        return code
+    try:
+        return max(code, _render(render, args, todo, outcomes))
+    except KeyboardInterrupt as exc:  # e.g. in the window of --show
+        _say(_interruption(exc))
+        return INTERRUPTED
+
+
+def _write(args, output, files, tasks, previous, outcomes, interrupted, unrecorded) -> int:
+    """Write the table (or print it); the exit code so far (0, or 1 if a file failed)."""
     new = [outcomes[i].record for i in sorted(outcomes)]
-    if interrupted:
-        _say(f"interrupted: {len(new)} of {len(tasks)} files done; rerun with --resume to finish")
-        if args.output not in (None, STDOUT) and os.path.exists(args.output) and not previous:
+    if interrupted is not None:
+        _say(
+            f"{_interruption(interrupted)}: {len(new)} of {len(tasks)} files done; "
+            "rerun with --resume to finish"
+        )
+    if unrecorded is not None:
+        _say(
+            f"cannot keep the finished rows in {output.journal_path!r}: {unrecorded}; "
+            f"stopped after {len(new)} of {len(tasks)} files"
+        )
+    if (interrupted or unrecorded) and output is not None and not previous:
+        if os.path.exists(args.output):
             try:  # keep the old rows of the files not reached, so that nothing is lost
                 previous = read_table(args.output)
             except (OSError, ValueError):
@@ -461,6 +576,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     records = merge_records(previous, new)
     mine = {os.path.abspath(f) for f in files}
     failed = sum(r["status"] != "ok" for r in records if os.path.abspath(r["file"]) in mine)
+    code = 1 if failed or unrecorded else 0
 
     columns = layout(args.columns)
     if failed and not columns.failed_rows:
@@ -469,16 +585,23 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     if args.output == STDOUT:
         write_table(sys.stdout, records, columns=columns)
         sys.stdout.flush()
-    elif args.output is not None and not computed and os.path.exists(args.output):
+    elif output is not None and not new and interrupted is not None:
+        output.discard_journal()  # nothing done, nothing to write
+    elif output is not None and not computed and os.path.exists(args.output):
         if tasks:  # every file failed (or none was reached): keep the old table as it is
             _say(f"no mesh was computed: {args.output} left as it was")
         elif not args.quiet:
             _say(f"every file was already done: {args.output} left as it was")
-    elif args.output is not None:
+        output.discard_journal()
+    elif output is not None:
         try:
-            written = write_table(args.output, records, columns=columns)
+            written = output.write(records)
         except OSError as exc:
-            _say(f"cannot write {args.output!r}: {exc}")
+            kept = f"; the rows computed are kept in {output.journal_path}"
+            _say(
+                f"cannot write {args.output!r}: {exc}; it was left as it was"
+                + (f"{kept}: rerun with --resume to add them" if new else "")
+            )
             return 1
         if not args.quiet:
             _say(f"wrote {written} rows to {args.output} ({failed} failed)")
@@ -486,11 +609,4 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         print_layout(records, columns)
     else:
         print_table(records)
-    if interrupted:
-        return 130
-
-    code = 1 if failed else 0
-    if rendering:
-        drawn = _render(render, args, todo, outcomes)
-        code = max(code, drawn)
     return code

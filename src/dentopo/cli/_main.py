@@ -43,6 +43,9 @@ def main(argv: list[str] | None = None) -> int:
     except MissingExtraError as exc:  # wherever it is found: one line naming the extra
         say(str(exc))
         return 2
+    except KeyboardInterrupt:  # wherever it was not caught already: one line, exit 130
+        say("interrupted")
+        return 130
 
 
 def run() -> None:
