@@ -22,18 +22,26 @@ is not within ``AMBIGUITY`` of an integer is recomputed with far-field ratios
 ``REFINE_RATIOS`` (more of the sum exact each time; at ratio 64 the far
 field's error is far below 0.01) and, if it is still within
 ``HALF_INTEGER_BAND`` of a half-integer, by the exact sum over all
-triangles, so the decision never rests on the approximation.  The exact,
+triangles, so the decision does not rest on the approximation.  The exact,
 O(faces) per point, step is thereby kept for the few points where rounding
-could go either way (points on the surface itself), and cannot blow up on a
-mesh whose open holes give many points a fractional winding number.
+could go either way (points on the surface itself).  Its work is bounded
+(``EXACT_WORK`` solid angles per point and triangle, at least ``EXACT_MIN``):
+when very many points lie on the surface (an open patch under ``"winding"``,
+or a bandwidth so small that every centroid is its own vertex), the points
+closest to a half-integer get the exact sum and the others keep the ratio-64
+value, which can put on the wrong side only a point within its error (far
+below 0.01) of a half-integer, i.e. on the surface itself.
 
 Long, thin triangles (the fans that cap a mesh's holes) would make every
 cluster that holds them wide, and every query near them slow.  Triangles much
 longer than the mesh's typical edge are therefore cut into strips parallel to
 their shortest edge before the hierarchy is built: the surface, and so the
-winding number, is unchanged (solid angle is additive), up to rounding.
-Queries are processed in spatial (Morton) order, which keeps the parts of the
-hierarchy they visit in cache.  Everything is O((points + faces) log faces).
+winding number, is unchanged (solid angle is additive), up to rounding.  The
+strips add at most ``STRIP_BUDGET`` triangles per triangle of the mesh, so a
+few enormous triangles (to one stray vertex far away) get fewer, longer strips
+instead of millions.  Queries are processed in spatial order (adaptive, so a
+stray vertex does not spoil it), which keeps the parts of the hierarchy they
+visit in cache.  Everything is O((points + faces) log faces).
 """
 
 from __future__ import annotations
@@ -55,8 +63,17 @@ AMBIGUITY = 0.2
 REFINE_RATIOS = (8.0, 64.0)
 #: After the last refinement, values this close to a half-integer get the exact sum.
 HALF_INTEGER_BAND = 0.05
+#: Each refinement pass (and the exact fallback) may visit at most this many
+#: nodes or triangles per point and triangle...
+WORK_PER_ITEM = 64
+#: ... or this many in all, whichever is more (a few tenths of a second).
+WORK_MIN = 4_000_000
+#: Points refined together at first; the batch doubles while the budget lasts.
+REFINE_BATCH = 256
 #: Triangles longer than this many times the median longest edge are cut into strips.
 LONG_TRIANGLE = 8.0
+#: The strips may add at most this many triangles per triangle of the mesh.
+STRIP_BUDGET = 1
 _FOUR_PI = 4.0 * np.pi
 
 
@@ -189,8 +206,13 @@ def _build(tri, leaf_size):
 
 @njit(cache=True, parallel=True)
 def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, second_order):
+    """Approximate solid angles (4 pi w) at the queries, and each query's work.
+
+    The work is the number of nodes visited plus triangles summed exactly.
+    """
     n = queries.shape[0]
     out = np.empty(n)
+    work = np.zeros(n, np.int64)
     n_chunks = min(n, 256)
     for chunk in prange(n_chunks):
         stack = np.empty(256, np.int64)  # one traversal stack per chunk of queries
@@ -199,9 +221,11 @@ def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, se
             stack[0] = 0
             top = 1
             total = 0.0
+            visits = 0
             while top > 0:
                 top -= 1
                 node = stack[top]
+                visits += 1
                 dx = centre[node, 0] - q[0]
                 dy = centre[node, 1] - q[1]
                 dz = centre[node, 2] - q[2]
@@ -223,12 +247,14 @@ def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, se
                     total += term * inv3
                 elif left[node] < 0:
                     total += _triangle_sum(tri, lo[node], hi[node], q)
+                    visits += hi[node] - lo[node]
                 else:
                     stack[top] = left[node]
                     stack[top + 1] = left[node] + 1
                     top += 2
             out[i] = total
-    return out
+            work[i] = visits
+    return out, work
 
 
 @njit(cache=True, parallel=True)
@@ -299,11 +325,15 @@ def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
     target = LONG_TRIANGLE * float(np.median(longest))
     if not target > 0:
         return tri
-    pieces = np.ceil(longest / target).astype(np.int64)
+    pieces = np.ceil(np.minimum(longest / target, len(tri) + 1.0)).astype(np.int64)
     long = np.flatnonzero(pieces > 1)
     if len(long) == 0:
         return tri
     pieces = pieces[long]
+    added = 2 * (pieces - 1)
+    budget = STRIP_BUDGET * len(tri)
+    if added.sum() > budget:  # a few enormous triangles (a stray vertex): fewer, longer strips
+        pieces = 1 + (pieces - 1) * budget // added.sum()
     strips = 2 * pieces - 1
     cut = _cut_strips(np.ascontiguousarray(tri[long]), pieces, np.empty((int(strips.sum()), 3, 3)))
     first = np.concatenate([[0], np.cumsum(strips)[:-1]])
@@ -367,21 +397,43 @@ def winding_number(
     order = spatial_order(points)
     value[order] = _query(
         tri, *tree, np.ascontiguousarray(points[order]), far_field_ratio, second_order
-    )
+    )[0]
     value /= _FOUR_PI
+    budget = _budget(len(points), len(tri))
     for ratio in REFINE_RATIOS:
         unsure = np.flatnonzero(np.abs(value - np.round(value)) > AMBIGUITY)
         if len(unsure) == 0:
             return value
-        queries = np.ascontiguousarray(points[unsure])
-        value[unsure] = _query(tri, *tree, queries, ratio, second_order) / _FOUR_PI
+        # closest to a half-integer first, in batches while the budget lasts
+        offset = np.abs(value[unsure] - np.floor(value[unsure]) - 0.5)
+        unsure = unsure[np.argsort(offset, kind="stable")]
+        spent = 0
+        start = 0
+        batch = REFINE_BATCH
+        while start < len(unsure) and spent < budget:
+            chosen = unsure[start : start + batch]
+            queries = np.ascontiguousarray(points[chosen])
+            refined, work = _query(tri, *tree, queries, ratio, second_order)
+            value[chosen] = refined / _FOUR_PI
+            spent += int(work.sum())
+            start += batch
+            batch *= 2
     # what is still ambiguous is genuinely fractional (a point on the surface, or
     # a surface that is not closed); only values near a half-integer, where
     # rounding could go either way, need the exact O(faces) sum
-    half = np.flatnonzero(np.abs(value - np.floor(value) - 0.5) < HALF_INTEGER_BAND)
+    offset = np.abs(value - np.floor(value) - 0.5)
+    half = np.flatnonzero(offset < HALF_INTEGER_BAND)
+    affordable = budget // max(1, len(tri))
+    if len(half) > affordable:  # e.g. every point on the surface: the closest calls first
+        half = half[np.argsort(offset[half], kind="stable")[:affordable]]
     if len(half):
         value[half] = _exact(tri, np.ascontiguousarray(points[half])) / _FOUR_PI
     return value
+
+
+def _budget(n_points: int, n_triangles: int) -> int:
+    """Work each refinement pass may do: ``WORK_PER_ITEM`` per item, at least ``WORK_MIN``."""
+    return max(WORK_MIN, WORK_PER_ITEM * (n_points + n_triangles))
 
 
 def inside(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
