@@ -37,8 +37,8 @@ def _morton_order(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _crowded_cells(codes: np.ndarray) -> list[tuple[int, int]]:
     """``(start, stop)`` of the runs of equal sorted codes longer than ``CELL_POINTS``."""
-    if len(codes) <= CELL_POINTS:
-        return []
+    if len(codes) <= CELL_POINTS or not (codes[CELL_POINTS:] == codes[:-CELL_POINTS]).any():
+        return []  # (sorted codes: a run is longer than CELL_POINTS iff this holds somewhere)
     starts = np.flatnonzero(np.diff(codes)) + 1
     bounds = np.concatenate([[0], starts, [len(codes)]])
     long = np.flatnonzero(np.diff(bounds) > CELL_POINTS)
