@@ -127,6 +127,8 @@ def test_a_far_vertex_adds_few_strips_and_keeps_the_winding_number(sphere):
     tri = vertices[faces]
     split = _split_long(tri.copy())
     assert len(tri) < len(split) <= (1 + STRIP_BUDGET) * len(tri)
+    # strips growing geometrically away from the sphere: about 40 per fin triangle
+    assert len(split) - len(tri) < 4 * 50
     queries = np.array([[0.0, 0.0, 0.0], [0.3, -0.2, 0.1], [2.0, 0.0, 0.0], [0.0, 5.0, 0.0]])
     exact = exact_winding_number(vertices, faces, queries)
     np.testing.assert_allclose(exact, [1, 1, 0, 0], atol=1e-9)
@@ -154,3 +156,13 @@ def test_points_on_the_surface_cost_a_bounded_amount_of_work(monkeypatch):
     inside(vertices, faces, prepared.points)
     triangles = 2 * len(faces)  # at most, with the strips
     assert sum(calls) <= max(4_000_000, 64 * (len(prepared.points) + triangles))
+
+
+def test_strip_budget_caps_only_the_largest_requests():
+    from dentopo.sign._winding import _capped
+
+    wanted = np.array([3, 1, 500, 2, 40, 0])
+    np.testing.assert_array_equal(_capped(wanted, 1000), wanted)  # within the budget
+    capped = _capped(wanted, 30)
+    np.testing.assert_array_equal(capped, [3, 1, 12, 2, 12, 0])  # 6 + 2 x 12 = 30
+    assert _capped(wanted, 3).sum() <= 3

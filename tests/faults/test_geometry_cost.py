@@ -69,7 +69,7 @@ def _measure(case: str, rings: int) -> dict:
 
 @pytest.fixture(scope="module")
 def clean():
-    return {rings: _measure("clean", rings) for rings in (37, 100)}
+    return {rings: _measure("clean", rings) for rings in (37, 100, 180)}
 
 
 @pytest.mark.parametrize(
@@ -78,6 +78,8 @@ def clean():
         ("moved_vertex", 37),  # about 4.2k vertices, like normal.ply
         ("far_triangle", 37),
         ("unreferenced", 37),
+        ("moved_vertex", 180),  # about 98k vertices: the fast method
+        ("far_triangle", 180),
         ("tiny_bandwidth", 100),  # about 30k vertices
         ("tiny_bandwidth_exact", 100),
     ],

@@ -37,9 +37,10 @@ cluster that holds them wide, and every query near them slow.  Triangles much
 longer than the mesh's typical edge are therefore cut into strips parallel to
 their shortest edge before the hierarchy is built: the surface, and so the
 winding number, is unchanged (solid angle is additive), up to rounding.  The
-strips add at most ``STRIP_BUDGET`` triangles per triangle of the mesh, so a
-few enormous triangles (to one stray vertex far away) get fewer, longer strips
-instead of millions.  Queries are processed in spatial order (adaptive, so a
+strips add at most ``STRIP_BUDGET`` triangles per triangle of the mesh: every
+triangle gets the strips it needs except the very longest (the few to a stray
+vertex far away), which share what is left as fewer, longer strips instead of
+millions.  Queries are processed in spatial order (adaptive, so a
 stray vertex does not spoil it), which keeps the parts of the hierarchy they
 visit in cache.  Everything is O((points + faces) log faces).
 """
@@ -74,6 +75,8 @@ REFINE_BATCH = 256
 LONG_TRIANGLE = 8.0
 #: The strips may add at most this many triangles per triangle of the mesh.
 STRIP_BUDGET = 1
+#: Beyond that budget, each strip is this many times longer than the one before.
+STRIP_GROWTH = 1.5
 _FOUR_PI = 4.0 * np.pi
 
 
@@ -266,14 +269,17 @@ def _exact(tri, queries):
 
 
 @njit(cache=True)
-def _cut_strips(tri, pieces, out):
-    """Cut triangle t into ``pieces[t]`` strips parallel to its shortest edge.
+def _cut_strips(tri, ptr, bounds, out):
+    """Cut triangle t into strips parallel to its shortest edge.
 
-    The strips keep the triangle's orientation: 1 + 2 (pieces - 1) triangles.
+    The strips run from the apex (the vertex opposite the shortest edge, at
+    ``s = 0``) to that edge (``s = 1``) between the fractions
+    ``bounds[ptr[t]:ptr[t + 1]]`` (0 first, 1 last), and keep the triangle's
+    orientation: 1 + 2 (pieces - 1) triangles.
     """
     k = 0
     for t in range(tri.shape[0]):
-        count = pieces[t]
+        count = ptr[t + 1] - ptr[t] - 1
         # apex: the vertex opposite the shortest edge
         best = 0
         shortest = np.inf
@@ -290,8 +296,8 @@ def _cut_strips(tri, pieces, out):
         va = tri[t, (best + 1) % 3]
         vb = tri[t, (best + 2) % 3]
         for s in range(count):
-            s0 = s / count
-            s1 = (s + 1) / count
+            s0 = bounds[ptr[t] + s]
+            s1 = bounds[ptr[t] + s + 1]
             p0 = apex + s0 * (va - apex)
             q0 = apex + s0 * (vb - apex)
             p1 = apex + s1 * (va - apex)
@@ -312,6 +318,38 @@ def _cut_strips(tri, pieces, out):
     return out
 
 
+def _strip_bounds(longest: np.ndarray, target: float, allowed: int):
+    """Strip counts and CSR fractions (see ``_cut_strips``) for the long triangles.
+
+    Equal strips of about `target` when they add at most `allowed` triangles
+    (always, on ordinary meshes).  Otherwise (long triangles to a stray vertex
+    far away) strips that start at `target` next to the shortest edge, which
+    lies by the rest of the mesh, and grow by ``STRIP_GROWTH`` towards the
+    apex: each strip is then shorter than its distance from that edge, so the
+    hierarchy treats it as far field from the mesh, and a triangle a million
+    times longer than the edges needs only about 40 strips.  If even those
+    are too many, the largest counts are capped (their last strips get longer).
+    """
+    uniform = np.ceil(np.minimum(longest / target, allowed + 1.0)).astype(np.int64)
+    if 2 * int((uniform - 1).sum()) <= allowed:
+        pieces = uniform
+        ptr = np.concatenate([[0], np.cumsum(pieces + 1)])
+        k = np.arange(ptr[-1]) - np.repeat(ptr[:-1], pieces + 1)
+        return pieces, ptr, k / np.repeat(pieces, pieces + 1)
+    first = np.minimum(target / longest, 1.0)  # the first strip, as a fraction
+    growth = STRIP_GROWTH
+    wanted = np.ceil(np.log1p((growth - 1.0) / first) / np.log(growth)).astype(np.int64)
+    pieces = 1 + _capped(np.maximum(wanted, 1) - 1, allowed // 2)
+    ptr = np.concatenate([[0], np.cumsum(pieces + 1)])
+    k = np.arange(ptr[-1]) - np.repeat(ptr[:-1], pieces + 1)
+    # distance from the shortest edge, as a fraction: 0, f, f (1 + g), ..., then 1
+    u = np.repeat(first, pieces + 1) * np.expm1(k * np.log(growth)) / (growth - 1.0)
+    u = np.where(k == np.repeat(pieces, pieces + 1), 1.0, np.minimum(u, 1.0))
+    # as fractions from the apex, ascending within each triangle
+    reverse = np.repeat(ptr[:-1] + ptr[1:] - 1, pieces + 1) - np.arange(ptr[-1])
+    return pieces, ptr, 1.0 - u[reverse]
+
+
 def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
     """Cut triangles much longer than the typical edge into strips (same surface).
 
@@ -325,22 +363,37 @@ def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
     target = LONG_TRIANGLE * float(np.median(longest))
     if not target > 0:
         return tri
-    pieces = np.ceil(np.minimum(longest / target, len(tri) + 1.0)).astype(np.int64)
-    long = np.flatnonzero(pieces > 1)
+    long = np.flatnonzero(longest > target)
     if len(long) == 0:
         return tri
-    pieces = pieces[long]
-    added = 2 * (pieces - 1)
-    budget = STRIP_BUDGET * len(tri)
-    if added.sum() > budget:  # a few enormous triangles (a stray vertex): fewer, longer strips
-        pieces = 1 + (pieces - 1) * budget // added.sum()
+    pieces, ptr, bounds = _strip_bounds(longest[long], target, STRIP_BUDGET * len(tri))
     strips = 2 * pieces - 1
-    cut = _cut_strips(np.ascontiguousarray(tri[long]), pieces, np.empty((int(strips.sum()), 3, 3)))
+    out = np.empty((int(strips.sum()), 3, 3))
+    cut = _cut_strips(np.ascontiguousarray(tri[long]), ptr, bounds, out)
     first = np.concatenate([[0], np.cumsum(strips)[:-1]])
     if not overwrite:
         tri = tri.copy()
     tri[long] = cut[first]
     return np.concatenate([tri, np.delete(cut, first, axis=0)])
+
+
+def _capped(wanted: np.ndarray, allowed: int) -> np.ndarray:
+    """``min(wanted, cap)`` with the largest cap whose total is at most `allowed`.
+
+    Small requests are granted in full; only the largest ones (the triangles
+    to a stray vertex far away) get fewer, longer strips.
+    """
+    if wanted.sum() <= allowed:
+        return wanted
+    s = np.sort(wanted)
+    m = len(s)
+    # total if the cap were s[j]: the j smaller requests in full, the rest s[j] each
+    totals = np.cumsum(s) - s + s * (m - np.arange(m))
+    j = int(np.searchsorted(totals, allowed, side="right")) - 1
+    if j < 0:
+        return np.minimum(wanted, allowed // m)
+    above = m - int(np.searchsorted(s, s[j], side="right"))  # requests a higher cap raises
+    return np.minimum(wanted, s[j] + (allowed - totals[j]) // max(above, 1))
 
 
 def _ordered_triangles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
