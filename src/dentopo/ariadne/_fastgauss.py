@@ -34,8 +34,11 @@ relative or better and every sign was identical on noisy crowns of 10k-120k
 vertices (benchmarks/bench_scaling.py; tests/test_fastgauss.py checks 1e-8).
 That cancellation grows as ``eps (h / extent)**2`` relative to the trace once
 the kernel reaches far beyond the mesh (1e-8 at ``h`` = 10 extents, nonsense
-at 1e4), so the transform refuses bandwidths above ``MAX_BANDWIDTH_EXTENT``
-extents (``method="auto"`` then uses the exact sums).
+at 1e4).  Above ``DERIVATIVES_UP_TO`` extents (a huge bandwidth, or a mesh
+shrunk by the unit-area scaling because a stray vertex's long triangles
+count in its area) the moments therefore come from the raw sums
+``sum_j w_ij x_j^p`` (five type-1 transforms of packed strengths), about the
+box's centre: every weight is then close to 1 and nothing large cancels.
 
 Bounding boxes.  The mode grid spans the points' bounding box, which one stray
 vertex far away can make ~1e18 modes.  When all the points do not fit, they
@@ -75,11 +78,12 @@ _PERIODIC_PAD = 6.3
 #: Above this many Fourier modes the fast path refuses (memory, and the exact
 #: sums are cheap anyway when h is that small relative to the mesh).
 MAX_MODES = 64_000_000
-#: The transform is used only while the bandwidth is at most this many times the
-#: largest extent of the points it covers: beyond, ``(h**4/4) F_nn`` and
-#: ``(h**2/2) F`` cancel to ``eps (h / extent)**2`` relative (1e-8 at h = 10
-#: extents, garbage at 1e4), and every weight is close to 1 anyway.
-MAX_BANDWIDTH_EXTENT = 4.0
+#: Above this many times the points' largest extent, the moments come from the
+#: raw sums (``_raw_moments``): ``(h**4/4) F_nn`` and ``(h**2/2) F`` cancel to
+#: ``eps (h / extent)**2`` relative (1e-8 at 10 extents, nonsense at 1e4),
+#: while the raw sums' error falls as h grows; on a crown they cross near half
+#: the extent (both about 3e-11 relative to the covariance's trace).
+DERIVATIVES_UP_TO = 0.5
 #: Groups of fewer points than this are summed exactly (at most this many pairs per point).
 MIN_FAST_POINTS = 256
 #: Vertices with a kernel sum below this may have 3 or fewer neighbours; their
@@ -122,13 +126,6 @@ def _transform_problem(points: np.ndarray, bandwidth: float) -> str | None:
         return (
             f"bandwidth {bandwidth:g} is too small for the fast transform on this mesh "
             f"({count:.3g} Fourier modes > {MAX_MODES}); use method='exact'"
-        )
-    extent = float(np.ptp(points, axis=0).max())
-    if not bandwidth <= MAX_BANDWIDTH_EXTENT * extent:
-        return (
-            f"bandwidth {bandwidth:g} is too large for the fast transform on this mesh "
-            f"(more than {MAX_BANDWIDTH_EXTENT:g} times its extent {extent:.3g}, where it "
-            "loses its accuracy); use method='exact'"
         )
     return None
 
@@ -261,9 +258,7 @@ def fast_euclidean_moments(
         If FINUFFT is not installed.
     ValueError
         If the mesh is so large relative to ``bandwidth`` that the mode grid
-        would exceed ``MAX_MODES``, or so small relative to it (``bandwidth``
-        above ``MAX_BANDWIDTH_EXTENT`` extents) that the transform would lose
-        its accuracy (see ``plan_fast``).
+        would exceed ``MAX_MODES`` (see ``plan_fast``).
     """
     finufft = _require_finufft()
     if nthreads is None:
@@ -321,13 +316,10 @@ def _transform_moments(finufft, points, h, tolerance, nthreads) -> KernelMoments
     """The moments of `points` (one group that fits) by the transforms."""
     period, modes = mode_grid(points, h)
     centre = (points.min(axis=0) + points.max(axis=0)) / 2.0
-    scaled = (points - centre) * (2.0 * np.pi / period)
+    offset = points - centre
+    scaled = offset * (2.0 * np.pi / period)
     coords = [np.ascontiguousarray(scaled[:, a]) for a in range(3)]
     shape = tuple(int(m) for m in modes)
-
-    (spectrum,) = _run_plans(
-        finufft, 1, shape, coords, [np.ones(len(points), dtype=np.complex128)], tolerance, 1
-    )
 
     # wavenumbers per axis (CMCL order: -(N-1)/2 .. (N-1)/2) and the Gaussian's
     # Fourier coefficients on the periodic box
@@ -341,8 +333,26 @@ def _transform_moments(finufft, points, h, tolerance, nthreads) -> KernelMoments
         * np.exp(-(ky**2) * h**2 / 4.0)
         * np.exp(-(kz**2) * h**2 / 4.0)
     )
+    if h > DERIVATIVES_UP_TO * float(np.ptp(points, axis=0).max()):
+        weight, first, second = _raw_moments(
+            finufft, shape, coords, offset, gauss, tolerance, nthreads
+        )
+    else:
+        weight, first, second = _derivative_moments(
+            finufft, shape, coords, (kx, ky, kz), gauss, h, tolerance, nthreads
+        )
+    radius = kernel_radius(h, 0.0)
+    count = _few_neighbour_counts(points, weight, radius, int(_FEW_NEIGHBOURS_WEIGHT))
+    return KernelMoments(weight, first, second, count)
+
+
+def _derivative_moments(finufft, shape, coords, k, gauss, h, tolerance, nthreads):
+    """Weight, first and second moments from ``F`` and its derivatives (module docstring)."""
+    kx, ky, kz = k
+    (spectrum,) = _run_plans(
+        finufft, 1, shape, coords, [np.ones(len(coords[0]), dtype=np.complex128)], tolerance, 1
+    )
     spectrum *= gauss
-    del gauss
     # real and imaginary parts of each packed field are two real fields
     packed = [
         spectrum * (1.0 - 1j * kx**2),  # F,   F_xx
@@ -367,10 +377,48 @@ def _transform_moments(finufft, points, h, tolerance, nthreads) -> KernelMoments
     second = quarter_h4 * hess
     for a in range(3):
         second[:, a, a] += half_h2 * f
-    weight = np.ascontiguousarray(f)
-    radius = kernel_radius(h, 0.0)
-    count = _few_neighbour_counts(points, weight, radius, int(_FEW_NEIGHBOURS_WEIGHT))
-    return KernelMoments(weight, first, second, count)
+    return np.ascontiguousarray(f), first, second
+
+
+def _raw_moments(finufft, shape, coords, offset, gauss, tolerance, nthreads):
+    """Weight, first and second moments from the raw sums ``sum_j w_ij x_j^p``.
+
+    For a kernel far wider than the points (see ``DERIVATIVES_UP_TO``): the ten
+    sums of ``w_ij`` times ``1, x_j, x_j x_j^T`` (coordinates about the box's
+    centre, so at most half the extent), packed in pairs into five complex
+    strengths, one type-1 and one type-2 transform each; the moments about
+    ``x_i`` follow by expanding ``(x_j - x_i)``.  Every weight is then close to
+    1, so nothing large cancels: the error is about ``eps`` relative to the
+    covariance's trace.
+    """
+    x, y, z = offset.T
+    strengths = [
+        1.0 + 1j * x,
+        y + 1j * z,
+        x * x + 1j * (x * y),
+        x * z + 1j * (y * y),
+        y * z + 1j * (z * z),
+    ]
+    spectra = _run_plans(finufft, 1, shape, coords, strengths, tolerance, nthreads)
+    del strengths
+    values = _run_plans(
+        finufft, 2, shape, coords, [spectrum * gauss for spectrum in spectra], tolerance, nthreads
+    )
+    del spectra
+    s0 = values[0].real
+    s1 = np.column_stack([values[0].imag, values[1].real, values[1].imag])
+    sxx, sxy, sxz = values[2].real, values[2].imag, values[3].real
+    syy, syz, szz = values[3].imag, values[4].real, values[4].imag
+    s2 = np.stack([sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz], axis=1).reshape(-1, 3, 3)
+    first = s1 - offset * s0[:, None]
+    cross = offset[:, :, None] * s1[:, None, :]
+    second = (
+        s2
+        - cross
+        - cross.transpose(0, 2, 1)
+        + s0[:, None, None] * (offset[:, :, None] * offset[:, None, :])
+    )
+    return np.ascontiguousarray(s0), first, second
 
 
 METHODS = ("auto", "exact", "fast")
