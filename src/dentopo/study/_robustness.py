@@ -507,7 +507,7 @@ def bandwidth_sweep(
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
         Never modified.
     bandwidths : iterable of float
-        Positive bandwidths, in the order of the table.
+        Bandwidths in [1e-50, 1e50], in the order of the table.
     sign_methods : iterable of str, default ("centroid", "gaussian_curvature", "mean_curvature")
         The curvature methods use a ball of radius equal to the bandwidth.
 
