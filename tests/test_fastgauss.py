@@ -126,3 +126,62 @@ def test_few_neighbours_warning_on_fast_path():
     mesh = trimesh.util.concatenate([sphere, lone])
     with pytest.warns(UserWarning, match="3 of"):
         ariaDNE(mesh, method="fast")
+
+
+def test_same_bits_at_any_thread_count(noisy_tooth):
+    points = prepare(noisy_tooth).points
+    runs = [_fastgauss.fast_euclidean_moments(points, 0.08, nthreads=t) for t in (1, 2, 3, 1)]
+    for run in runs[1:]:
+        for name in ("weight", "first", "second", "count"):
+            assert getattr(run, name).tobytes() == getattr(runs[0], name).tobytes(), name
+
+
+def _with_far_triangle(mesh, distance):
+    far = trimesh.Trimesh(
+        np.array([[0.0, 0, 0], [0.02, 0, 0], [0, 0.02, 0]]) + distance, [[0, 1, 2]]
+    )
+    return trimesh.util.concatenate([mesh, far])
+
+
+def test_a_far_away_triangle_keeps_the_fast_path(noisy_tooth):
+    # its bounding box would need ~1e18 Fourier modes: the points are cut into
+    # groups out of each other's reach, a transform for the crown, exact sums
+    # for the triangle
+    mesh = _with_far_triangle(noisy_tooth, 1e6)
+    points = prepare(mesh).points
+    plan = _fastgauss.plan_fast(points, 0.08)
+    assert plan.problem is None and len(plan.groups) == 1 and len(plan.exact) == 3
+    fast = _fastgauss.fast_euclidean_moments(points, 0.08)
+    exact = _kernel.euclidean_moments(points, 0.08, 0.0)
+    assert np.max(np.abs(fast.weight - exact.weight) / exact.weight) < 1e-8
+    trace = np.trace(exact.covariance, axis1=1, axis2=2)
+    crown = trace > 0
+    cov_error = np.abs(fast.covariance - exact.covariance).reshape(-1, 9).max(axis=1)
+    assert np.max(cov_error[crown] / trace[crown]) < 1e-8
+    assert np.array_equal(fast.count[~crown], exact.count[~crown])
+    with pytest.warns(UserWarning, match="3 of"):
+        result = ariaDNE(mesh, method="fast")
+    assert result.method == "fast"
+
+
+@pytest.mark.parametrize("bandwidth", [1e-30, 1e-12])
+def test_a_tiny_bandwidth_never_wraps_the_mode_count(noisy_tooth, bandwidth):
+    # the mode counts once went through int64 and wrapped: 1 mode, weights 1e-89
+    points = prepare(noisy_tooth).points
+    moments = _fastgauss.fast_euclidean_moments(points, bandwidth)
+    assert np.array_equal(moments.weight, np.ones(len(points)))
+
+
+@pytest.mark.parametrize("bandwidth", [0.3, 0.6, 2.0, 20.0, 1e4, 1e50])
+def test_moments_match_exact_sums_at_any_bandwidth(noisy_tooth, bandwidth):
+    # beyond half the extent the raw sums replace the derivatives, whose
+    # (h**4/4) F_nn and (h**2/2) F cancel: a local curvature of 893 at h = 1e4
+    points = prepare(noisy_tooth).points
+    exact = _kernel.euclidean_moments(points, bandwidth, 0.0)
+    fast = _fastgauss.fast_euclidean_moments(points, bandwidth)
+    assert np.max(np.abs(fast.weight - exact.weight) / exact.weight) < 1e-8
+    trace = np.trace(exact.covariance, axis1=1, axis2=2)
+    cov_error = np.abs(fast.covariance - exact.covariance).reshape(-1, 9).max(axis=1)
+    assert np.max(cov_error / trace) < 1e-8
+    extent = np.ptp(points, axis=0).max()
+    assert np.abs(fast.centroid(points) - exact.centroid(points)).max() < 1e-8 * extent

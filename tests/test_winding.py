@@ -114,3 +114,55 @@ def test_fractional_winding_numbers_of_an_open_surface(sphere):
     assert np.max(np.abs(fast - exact)[fractional]) < 1e-3
     assert np.max(np.abs(fast - exact)) < 0.05  # the first pass's accuracy elsewhere
     np.testing.assert_array_equal(np.abs(fast) > 0.5, np.abs(exact) > 0.5)
+
+
+def test_a_far_vertex_adds_few_strips_and_keeps_the_winding_number(sphere):
+    from dentopo.sign._winding import STRIP_BUDGET, _split_long
+
+    vertices = np.vstack([sphere.vertices, [[3e6, 1e6, 2e6]]])
+    far = len(vertices) - 1
+    # a thin fin from the sphere to a point 3 million radii away, both sides
+    a, b = sphere.faces[0, :2]
+    faces = np.vstack([sphere.faces, [[a, b, far], [b, a, far]]])
+    tri = vertices[faces]
+    split = _split_long(tri.copy())
+    assert len(tri) < len(split) <= (1 + STRIP_BUDGET) * len(tri)
+    # strips growing geometrically away from the sphere: about 40 per fin triangle
+    assert len(split) - len(tri) < 4 * 50
+    queries = np.array([[0.0, 0.0, 0.0], [0.3, -0.2, 0.1], [2.0, 0.0, 0.0], [0.0, 5.0, 0.0]])
+    exact = exact_winding_number(vertices, faces, queries)
+    np.testing.assert_allclose(exact, [1, 1, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(winding_number(vertices, faces, queries), exact, atol=0.05)
+    assert inside(vertices, faces, queries).tolist() == [True, True, False, False]
+
+
+def test_points_on_the_surface_cost_a_bounded_amount_of_work(monkeypatch):
+    # every query on the surface (a tiny bandwidth makes each centroid its own
+    # vertex): the exact sums stay within 64 solid angles per point and triangle
+    from dentopo.mesh import prepare
+    from dentopo.samples import tooth
+    from dentopo.sign import _winding
+
+    prepared = prepare(tooth(rings=50))
+    vertices, faces = close_holes(prepared.points, np.asarray(prepared.mesh.faces))
+    calls = []
+    exact = _winding._exact
+
+    def counting_exact(tri, queries):
+        calls.append(len(tri) * len(queries))
+        return exact(tri, queries)
+
+    monkeypatch.setattr(_winding, "_exact", counting_exact)
+    inside(vertices, faces, prepared.points)
+    triangles = 2 * len(faces)  # at most, with the strips
+    assert sum(calls) <= max(4_000_000, 64 * (len(prepared.points) + triangles))
+
+
+def test_strip_budget_caps_only_the_largest_requests():
+    from dentopo.sign._winding import _capped
+
+    wanted = np.array([3, 1, 500, 2, 40, 0])
+    np.testing.assert_array_equal(_capped(wanted, 1000), wanted)  # within the budget
+    capped = _capped(wanted, 30)
+    np.testing.assert_array_equal(capped, [3, 1, 12, 2, 12, 0])  # 6 + 2 x 12 = 30
+    assert _capped(wanted, 3).sum() <= 3

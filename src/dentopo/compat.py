@@ -26,8 +26,8 @@ What differs, and why (docs/migrating-from-signDNE.md has the whole story):
 * **Errors**: bad input raises ``TypeError``/``ValueError`` naming the problem
   (the published raises ``NameError`` for an unknown ``distance_type`` and
   ``TypeError`` for a misshapen ``precomputed_dist``); ``distance_type`` is
-  case-insensitive; ``cutoff`` must lie in [0, 1) and ``bandwidth`` be
-  positive; ``precomputed_dist`` must also be symmetric and non-negative.
+  case-insensitive; ``cutoff`` must lie in [0, 1) and ``bandwidth`` in
+  [1e-50, 1e50]; ``precomputed_dist`` must also be symmetric and non-negative.
 * **Few neighbours**: one ``UserWarning`` with a count instead of one printed
   line per vertex.
 * **More inputs**: besides a ``trimesh.Trimesh``, a path or ``(vertices,

@@ -10,33 +10,19 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable
-from numbers import Real
 
 import numpy as np
 
 from ..mesh import prepare
 from ..sign import check_sign_method, convex_vertices
 from . import _fastgauss, _kernel
+from ._parameters import check_bandwidth, check_cutoff
 from ._result import AriaDNEResult
 
 DISTANCE_TYPES = ("euclidean", "geodesic")
 
 #: A vertex with this many neighbours or fewer (itself included) gets a warning.
 MIN_RELIABLE_NEIGHBOURS = 3
-
-
-def check_number(name, value, *, low, high, low_open, high_open):
-    if isinstance(value, bool) or not isinstance(value, Real):
-        raise TypeError(f"{name} must be a real number; got {type(value).__name__}")
-    value = float(value)
-    ok = np.isfinite(value)
-    ok = ok and (value > low if low_open else value >= low)
-    ok = ok and (value < high if high_open else value <= high)
-    if not ok:
-        lb = "(" if low_open else "["
-        hb = ")" if high_open else "]"
-        raise ValueError(f"{name} must lie in {lb}{low}, {high}{hb}; got {value!r}")
-    return value
 
 
 def check_distance_type(distance_type):
@@ -101,7 +87,9 @@ def ariaDNE(  # noqa: N802 -- the paper's name
         are finite and face indices in range.  Never modified.
     bandwidth : float, default 0.08
         Gaussian kernel bandwidth ``h`` on the unit-area scale; weights are
-        ``exp(-d**2 / h**2)``.  Larger values measure coarser features.
+        ``exp(-d**2 / h**2)``.  Larger values measure coarser features.  In
+        ``[1e-50, 1e50]`` (``BANDWIDTH_RANGE``, where ``1 / h**2`` and
+        ``h**4`` are safely finite; see ``dentopo.ariadne._parameters``).
     cutoff : float, default 0.0
         Neighbours whose kernel *weight* is ``<= cutoff`` are ignored; in [0, 1).
     distance_type : {"euclidean", "geodesic"}, default "euclidean"
@@ -169,10 +157,8 @@ def ariaDNE(  # noqa: N802 -- the paper's name
     >>> round(result.positive_dne, 6) == round(result.dne, 6)
     True
     """
-    bandwidth = check_number(
-        "bandwidth", bandwidth, low=0, high=np.inf, low_open=True, high_open=True
-    )
-    cutoff = check_number("cutoff", cutoff, low=0, high=1, low_open=False, high_open=True)
+    bandwidth = check_bandwidth(bandwidth)
+    cutoff = check_cutoff(cutoff)
     if precomputed_dist is None:
         distance_type = check_distance_type(distance_type)
     sign_method = check_sign_method(sign_method)

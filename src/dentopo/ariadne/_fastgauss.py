@@ -32,6 +32,26 @@ bending is divided by.  The weighted centroid has an absolute error of about
 With the default ``eps = 1e-10`` the totals agreed with the exact sums to 2e-12
 relative or better and every sign was identical on noisy crowns of 10k-120k
 vertices (benchmarks/bench_scaling.py; tests/test_fastgauss.py checks 1e-8).
+That cancellation grows as ``eps (h / extent)**2`` relative to the trace once
+the kernel reaches far beyond the mesh (1e-8 at ``h`` = 10 extents, nonsense
+at 1e4).  Above ``DERIVATIVES_UP_TO`` extents (a huge bandwidth, or a mesh
+shrunk by the unit-area scaling because a stray vertex's long triangles
+count in its area) the moments therefore come from the raw sums
+``sum_j w_ij x_j^p`` (five type-1 transforms of packed strengths), about the
+box's centre: every weight is then close to 1 and nothing large cancels.
+
+Bounding boxes.  The mode grid spans the points' bounding box, which one stray
+vertex far away can make ~1e18 modes.  When all the points do not fit, they
+are cut into groups out of one another's reach (``plan_fast``): each large
+group gets its own transform and small ones (the stray vertex) the exact sums.
+
+Determinism.  FINUFFT's multithreaded spreading (type 1) adds the threads'
+subgrids in whichever order they finish, and its FFTs round differently with
+the thread count, so results varied in the last bits between runs and between
+``-j`` settings.  Every transform therefore runs single-threaded (FINUFFT's
+option ``nthreads=1``), which is deterministic, and threads share the five
+independent type-2 transforms instead: the same bits at any thread count, for
+about the cost of the multithreaded type 1 (measured on a 100k-vertex crown).
 
 A weight cutoff ``c > 0`` truncates the kernel, which a Gauss transform cannot
 do; the fast path requires ``cutoff == 0`` and Euclidean distances.
@@ -39,10 +59,13 @@ do; the fast path requires ``cutoff == 0`` and Euclidean distances.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .._optional import FAST_METHOD
-from ._kernel import KernelMoments, kernel_radius
+from ._kernel import KernelMoments, euclidean_moments, kernel_radius
+from ._parameters import check_bandwidth
 
 #: FINUFFT tolerance used by default (see the module's error model).
 DEFAULT_TOLERANCE = 1e-10
@@ -55,6 +78,14 @@ _PERIODIC_PAD = 6.3
 #: Above this many Fourier modes the fast path refuses (memory, and the exact
 #: sums are cheap anyway when h is that small relative to the mesh).
 MAX_MODES = 64_000_000
+#: Above this many times the points' largest extent, the moments come from the
+#: raw sums (``_raw_moments``): ``(h**4/4) F_nn`` and ``(h**2/2) F`` cancel to
+#: ``eps (h / extent)**2`` relative (1e-8 at 10 extents, nonsense at 1e4),
+#: while the raw sums' error falls as h grows; on a crown they cross near half
+#: the extent (both about 3e-11 relative to the covariance's trace).
+DERIVATIVES_UP_TO = 0.5
+#: Groups of fewer points than this are summed exactly (at most this many pairs per point).
+MIN_FAST_POINTS = 256
 #: Vertices with a kernel sum below this may have 3 or fewer neighbours; their
 #: neighbours are counted exactly (a vertex's own weight is 1).
 _FEW_NEIGHBOURS_WEIGHT = 4.0
@@ -75,18 +106,100 @@ def finufft_available() -> bool:
 
 
 def mode_grid(points: np.ndarray, bandwidth: float) -> tuple[np.ndarray, np.ndarray]:
-    """Periods ``L`` (3,) and odd mode counts ``N`` (3,) of the periodic box."""
+    """Periods ``L`` (3,) and odd mode counts ``N`` (3,) of the periodic box.
+
+    The counts are floats (they can exceed any integer type for a tiny
+    bandwidth); compare their product with ``MAX_MODES`` before using them.
+    """
     span = np.ptp(points, axis=0)
     period = span + _PERIODIC_PAD * bandwidth
     k_max = 2.0 * _SPECTRAL_CUT / bandwidth
-    half = np.ceil(k_max * period / (2.0 * np.pi)).astype(np.int64)
-    return period, 2 * half + 1
+    half = np.ceil(k_max * period / (2.0 * np.pi))
+    return period, 2.0 * half + 1.0
+
+
+def _transform_problem(points: np.ndarray, bandwidth: float) -> str | None:
+    """Why the transform cannot cover `points` (one group), or None if it can."""
+    _, modes = mode_grid(points, bandwidth)
+    count = float(np.prod(modes))
+    if not count <= MAX_MODES:
+        return (
+            f"bandwidth {bandwidth:g} is too small for the fast transform on this mesh "
+            f"({count:.3g} Fourier modes > {MAX_MODES}); use method='exact'"
+        )
+    return None
+
+
+def _islands(points: np.ndarray, reach: float) -> list[np.ndarray]:
+    """Sorted index groups of the points, farther than `reach` from one another.
+
+    Every group is cut at each gap wider than `reach` in its coordinates along
+    each axis in turn, until no group splits (at most a few rounds; stopping
+    early would only leave larger groups, never wrong ones).  O(n log n) per round.
+    """
+    n = len(points)
+    labels = np.zeros(n, dtype=np.int64)
+    for _ in range(4):
+        split = False
+        for axis in range(3):
+            order = np.lexsort((points[:, axis], labels))
+            x = points[order, axis]
+            same = labels[order][1:] == labels[order][:-1]
+            cut = same & (np.diff(x) > reach)
+            split = split or bool(cut.any())
+            labels[order] = np.cumsum(np.concatenate([[0], ~same | cut]))
+        if not split:
+            break
+    order = np.argsort(labels, kind="stable")  # indices ascending within each group
+    return np.split(order, np.flatnonzero(np.diff(labels[order])) + 1)
+
+
+@dataclass(frozen=True)
+class FastPlan:
+    """How the moments of a point set are computed: transforms per group, exact for the rest.
+
+    ``groups`` are index arrays each covered by one transform (``None``: all
+    the points); ``exact`` the indices summed exactly (small groups far from
+    every other point); ``problem`` why the transform cannot run (then it
+    must not be used), or None.
+    """
+
+    groups: list
+    exact: np.ndarray
+    problem: str | None
+
+
+def plan_fast(points: np.ndarray, bandwidth: float) -> FastPlan:
+    """Split `points` for the fast transform (see :class:`FastPlan`).
+
+    All the points go into one transform when they fit (the ordinary case).
+    Otherwise (typically one stray vertex far away, whose bounding box would
+    need far too many Fourier modes) they are cut into groups farther apart
+    than the kernel's reach, where every weight between groups is below
+    ``exp(-_PERIODIC_PAD**2)``, as the periodic images already are: groups of
+    ``MIN_FAST_POINTS`` or more get their own transform, smaller ones the
+    exact sums.
+    """
+    empty = np.empty(0, dtype=np.int64)
+    problem = _transform_problem(points, bandwidth)
+    if problem is None:
+        return FastPlan([None], empty, None)
+    groups, exact = [], []
+    for group in _islands(points, _PERIODIC_PAD * bandwidth):
+        if len(group) < MIN_FAST_POINTS:
+            exact.append(group)
+            continue
+        problem = _transform_problem(points[group], bandwidth)
+        if problem is not None:
+            return FastPlan([], empty, problem)
+        groups.append(group)
+    exact = np.sort(np.concatenate(exact)) if exact else empty
+    return FastPlan(groups, exact, None)
 
 
 def fits(points: np.ndarray, bandwidth: float) -> bool:
-    """True if the fast transform's mode grid stays within ``MAX_MODES``."""
-    _, modes = mode_grid(points, bandwidth)
-    return int(np.prod(modes)) <= MAX_MODES
+    """True if the fast transform can compute the moments of `points` (see `plan_fast`)."""
+    return plan_fast(points, bandwidth).problem is None
 
 
 def _few_neighbour_counts(points, weight, radius, cap):
@@ -126,7 +239,11 @@ def fast_euclidean_moments(
     tolerance : float, default ``DEFAULT_TOLERANCE``
         FINUFFT's relative tolerance (see the module's error model).
     nthreads : int, optional
-        Threads for FINUFFT (default: numba's thread count).
+        Threads (default: numba's thread count).  The result does not depend
+        on it: every transform runs single-threaded (FINUFFT's multithreaded
+        spreading adds its subgrids in whichever order the threads finish, and
+        its FFTs differ with the thread count), and the threads share the five
+        output transforms.
 
     Returns
     -------
@@ -141,7 +258,7 @@ def fast_euclidean_moments(
         If FINUFFT is not installed.
     ValueError
         If the mesh is so large relative to ``bandwidth`` that the mode grid
-        would exceed ``MAX_MODES``.
+        would exceed ``MAX_MODES`` (see ``plan_fast``).
     """
     finufft = _require_finufft()
     if nthreads is None:
@@ -149,29 +266,66 @@ def fast_euclidean_moments(
 
         nthreads = numba.get_num_threads()
     points = np.ascontiguousarray(points, dtype=np.float64)
-    h = float(bandwidth)
+    h = check_bandwidth(bandwidth)
+    plan = plan_fast(points, h)
+    if plan.problem is not None:
+        raise ValueError(plan.problem)
+    if len(plan.groups) == 1 and plan.groups[0] is None:  # all the points, one transform
+        return _transform_moments(finufft, points, h, tolerance, nthreads)
+    n = len(points)
+    weight, first = np.zeros(n), np.zeros((n, 3))
+    second, count = np.zeros((n, 3, 3)), np.zeros(n, dtype=np.int64)
+    parts = [
+        (group, _transform_moments(finufft, points[group], h, tolerance, nthreads))
+        for group in plan.groups
+    ]
+    if len(plan.exact):
+        parts.append((plan.exact, euclidean_moments(points[plan.exact], h, 0.0)))
+    for index, moments in parts:
+        weight[index] = moments.weight
+        first[index] = moments.first
+        second[index] = moments.second
+        count[index] = np.minimum(moments.count, int(_FEW_NEIGHBOURS_WEIGHT))
+    return KernelMoments(weight, first, second, count)
+
+
+def _run_plans(finufft, kind, shape, coords, inputs, tolerance, nthreads):
+    """One single-threaded FINUFFT transform per input, spread over `nthreads` threads.
+
+    Single-threaded transforms are deterministic and independent of the thread
+    count; ctypes releases the GIL while FINUFFT runs, so they run in parallel.
+    """
+    isign = -1 if kind == 1 else 1
+    shape = tuple(int(m) for m in shape)
+
+    def run(data):
+        plan = finufft.Plan(kind, shape, n_trans=1, eps=tolerance, isign=isign, nthreads=1)
+        plan.setpts(*coords)
+        return plan.execute(data)
+
+    workers = max(1, min(int(nthreads), len(inputs)))
+    if workers == 1:
+        return [run(data) for data in inputs]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        return list(pool.map(run, inputs))
+
+
+def _transform_moments(finufft, points, h, tolerance, nthreads) -> KernelMoments:
+    """The moments of `points` (one group that fits) by the transforms."""
     period, modes = mode_grid(points, h)
-    if int(np.prod(modes)) > MAX_MODES:
-        raise ValueError(
-            f"bandwidth {h} is too small for the fast transform on this mesh "
-            f"({int(np.prod(modes))} Fourier modes > {MAX_MODES}); use method='exact'"
-        )
     centre = (points.min(axis=0) + points.max(axis=0)) / 2.0
-    scaled = (points - centre) * (2.0 * np.pi / period)
+    offset = points - centre
+    scaled = offset * (2.0 * np.pi / period)
     coords = [np.ascontiguousarray(scaled[:, a]) for a in range(3)]
     shape = tuple(int(m) for m in modes)
-    opts = {"nthreads": int(nthreads)}
-
-    plan = finufft.Plan(1, shape, n_trans=1, eps=tolerance, isign=-1, **opts)
-    plan.setpts(*coords)
-    spectrum = plan.execute(np.ones(len(points), dtype=np.complex128))
-    del plan
 
     # wavenumbers per axis (CMCL order: -(N-1)/2 .. (N-1)/2) and the Gaussian's
     # Fourier coefficients on the periodic box
     k = [
         2.0 * np.pi * np.arange(-(m // 2), m // 2 + 1) / p
-        for m, p in zip(modes, period, strict=True)
+        for m, p in zip(shape, period, strict=True)
     ]
     kx, ky, kz = k[0][:, None, None], k[1][None, :, None], k[2][None, None, :]
     gauss = (np.pi**1.5 * h**3 / np.prod(period)) * (
@@ -179,21 +333,37 @@ def fast_euclidean_moments(
         * np.exp(-(ky**2) * h**2 / 4.0)
         * np.exp(-(kz**2) * h**2 / 4.0)
     )
-    spectrum *= gauss
-    del gauss
-    packed = np.empty((5, *shape), dtype=np.complex128)
-    # real and imaginary parts of each packed field are two real fields
-    packed[0] = spectrum * (1.0 - 1j * kx**2)  # F,   F_xx
-    packed[1] = spectrum * (-(ky**2) - 1j * kz**2)  # F_yy, F_zz
-    packed[2] = spectrum * (-(kx * ky) - 1j * (kx * kz))  # F_xy, F_xz
-    packed[3] = spectrum * (-(ky * kz) - kx)  # F_yz, F_x  (i * i k_x = -k_x)
-    packed[4] = spectrum * (1j * ky - kz)  # F_y,  F_z
-    del spectrum
+    if h > DERIVATIVES_UP_TO * float(np.ptp(points, axis=0).max()):
+        weight, first, second = _raw_moments(
+            finufft, shape, coords, offset, gauss, tolerance, nthreads
+        )
+    else:
+        weight, first, second = _derivative_moments(
+            finufft, shape, coords, (kx, ky, kz), gauss, h, tolerance, nthreads
+        )
+    radius = kernel_radius(h, 0.0)
+    count = _few_neighbour_counts(points, weight, radius, int(_FEW_NEIGHBOURS_WEIGHT))
+    return KernelMoments(weight, first, second, count)
 
-    plan = finufft.Plan(2, shape, n_trans=5, eps=tolerance, isign=1, **opts)
-    plan.setpts(*coords)
-    values = plan.execute(packed)
-    del plan, packed
+
+def _derivative_moments(finufft, shape, coords, k, gauss, h, tolerance, nthreads):
+    """Weight, first and second moments from ``F`` and its derivatives (module docstring)."""
+    kx, ky, kz = k
+    (spectrum,) = _run_plans(
+        finufft, 1, shape, coords, [np.ones(len(coords[0]), dtype=np.complex128)], tolerance, 1
+    )
+    spectrum *= gauss
+    # real and imaginary parts of each packed field are two real fields
+    packed = [
+        spectrum * (1.0 - 1j * kx**2),  # F,   F_xx
+        spectrum * (-(ky**2) - 1j * kz**2),  # F_yy, F_zz
+        spectrum * (-(kx * ky) - 1j * (kx * kz)),  # F_xy, F_xz
+        spectrum * (-(ky * kz) - kx),  # F_yz, F_x  (i * i k_x = -k_x)
+        spectrum * (1j * ky - kz),  # F_y,  F_z
+    ]
+    del spectrum
+    values = _run_plans(finufft, 2, shape, coords, packed, tolerance, nthreads)
+    del packed
 
     f = values[0].real
     fxx, fyy, fzz = values[0].imag, values[1].real, values[1].imag
@@ -207,10 +377,48 @@ def fast_euclidean_moments(
     second = quarter_h4 * hess
     for a in range(3):
         second[:, a, a] += half_h2 * f
-    weight = np.ascontiguousarray(f)
-    radius = kernel_radius(h, 0.0)
-    count = _few_neighbour_counts(points, weight, radius, int(_FEW_NEIGHBOURS_WEIGHT))
-    return KernelMoments(weight, first, second, count)
+    return np.ascontiguousarray(f), first, second
+
+
+def _raw_moments(finufft, shape, coords, offset, gauss, tolerance, nthreads):
+    """Weight, first and second moments from the raw sums ``sum_j w_ij x_j^p``.
+
+    For a kernel far wider than the points (see ``DERIVATIVES_UP_TO``): the ten
+    sums of ``w_ij`` times ``1, x_j, x_j x_j^T`` (coordinates about the box's
+    centre, so at most half the extent), packed in pairs into five complex
+    strengths, one type-1 and one type-2 transform each; the moments about
+    ``x_i`` follow by expanding ``(x_j - x_i)``.  Every weight is then close to
+    1, so nothing large cancels: the error is about ``eps`` relative to the
+    covariance's trace.
+    """
+    x, y, z = offset.T
+    strengths = [
+        1.0 + 1j * x,
+        y + 1j * z,
+        x * x + 1j * (x * y),
+        x * z + 1j * (y * y),
+        y * z + 1j * (z * z),
+    ]
+    spectra = _run_plans(finufft, 1, shape, coords, strengths, tolerance, nthreads)
+    del strengths
+    values = _run_plans(
+        finufft, 2, shape, coords, [spectrum * gauss for spectrum in spectra], tolerance, nthreads
+    )
+    del spectra
+    s0 = values[0].real
+    s1 = np.column_stack([values[0].imag, values[1].real, values[1].imag])
+    sxx, sxy, sxz = values[2].real, values[2].imag, values[3].real
+    syy, syz, szz = values[3].imag, values[4].real, values[4].imag
+    s2 = np.stack([sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz], axis=1).reshape(-1, 3, 3)
+    first = s1 - offset * s0[:, None]
+    cross = offset[:, :, None] * s1[:, None, :]
+    second = (
+        s2
+        - cross
+        - cross.transpose(0, 2, 1)
+        + s0[:, None, None] * (offset[:, :, None] * offset[:, None, :])
+    )
+    return np.ascontiguousarray(s0), first, second
 
 
 METHODS = ("auto", "exact", "fast")
@@ -243,7 +451,7 @@ def resolve_method(method: str, points: np.ndarray, bandwidth: float, cutoff: fl
     possible = kind == "euclidean" and cutoff == 0
     if method == "auto":
         large = len(points) >= AUTO_FAST_VERTICES
-        if possible and large and fits(points, bandwidth) and finufft_available():
+        if possible and large and finufft_available() and fits(points, bandwidth):
             return "fast"
         return "exact"
     if kind != "euclidean":

@@ -29,6 +29,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from ..mesh import spatial_order
+from ._parameters import check_bandwidth, check_cutoff
 
 #: With cutoff 0, weights beyond this many bandwidths are below 1e-16 of the
 #: largest (exp(-6.1**2) = 6.7e-17) and cannot change a double-precision sum.
@@ -188,7 +189,8 @@ def _run_sums(xs, ys, zs, block_of, run_ptr, run_start, run_end, inv_h2, cutoff,
                 dy = yr[j] - yi
                 dz = zr[j] - zi
                 d2 = dx * dx + dy * dy + dz * dz
-                t = min(d2 * scale, t_max)
+                t = d2 * scale
+                t = t if t < t_max else t_max  # NaN (0 * inf) too: never outside the table
                 mf = np.floor(t)
                 r = (mf - t) * step
                 r2 = r * r
@@ -259,6 +261,7 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
         Weights ``<= cutoff`` are dropped (0 keeps every weight that can
         change a double, i.e. those within ``kernel_radius``).
     """
+    bandwidth, cutoff = check_bandwidth(bandwidth), check_cutoff(cutoff)
     points = np.ascontiguousarray(points, dtype=np.float64)
     n = len(points)
     radius = kernel_radius(bandwidth, cutoff)
@@ -309,6 +312,7 @@ def geodesic_moments(
     Dijkstra runs from each block of source vertices, bounded by the kernel
     radius, so only the vertices it reaches enter the sums.
     """
+    bandwidth, cutoff = check_bandwidth(bandwidth), check_cutoff(cutoff)
     n = len(points)
     radius = kernel_radius(bandwidth, cutoff)
     graph = edge_graph(points, faces)
@@ -328,6 +332,7 @@ def precomputed_moments(
     points: np.ndarray, distances: np.ndarray, bandwidth: float, cutoff: float
 ) -> KernelMoments:
     """Kernel moments from a caller-supplied symmetric (n, n) distance matrix."""
+    bandwidth, cutoff = check_bandwidth(bandwidth), check_cutoff(cutoff)
     n = len(points)
     out = _empty(n)
     cols = np.arange(n)

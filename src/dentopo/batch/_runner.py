@@ -25,10 +25,8 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field, fields, replace
 from functools import partial
 
-import numpy as np
-
 from .._optional import DASK, DATA_FRAMES, FAST_METHOD, MissingExtraError
-from ..ariadne import ariaDNE, check_distance_type, check_method, check_number
+from ..ariadne import ariaDNE, check_bandwidth, check_cutoff, check_distance_type, check_method
 from ..formats import (
     COLUMNS,
     DEFAULT_PER_VERTEX_FORMATS,
@@ -373,10 +371,8 @@ def make_settings(
     TypeError, ValueError
         Naming the offending option.
     """
-    bandwidth = check_number(
-        "bandwidth", bandwidth, low=0, high=np.inf, low_open=True, high_open=True
-    )
-    cutoff = check_number("cutoff", cutoff, low=0, high=1, low_open=False, high_open=True)
+    bandwidth = check_bandwidth(bandwidth)
+    cutoff = check_cutoff(cutoff)
     if threads is not None and (
         isinstance(threads, bool) or not isinstance(threads, int) or threads < 1
     ):

@@ -102,11 +102,26 @@ def _missing_figures(prog: str, figures: bool) -> bool:
     return False
 
 
+def _bandwidths_ok(prog: str, bandwidths) -> bool:
+    """Say so and return False if a bandwidth is out of range (a usage error)."""
+    from ..ariadne import check_bandwidth
+
+    try:
+        for bandwidth in bandwidths:
+            check_bandwidth(bandwidth)
+    except ValueError as exc:
+        print(f"{prog}: {exc}", file=sys.stderr)
+        return False
+    return True
+
+
 def robustness_main(argv: list[str]) -> int:
     """Run ``dentopo robustness ARGS``; the exit code."""
     from ..study import robustness_study, write_study
 
     args = _robustness_parser().parse_args(argv)
+    if not _bandwidths_ok("dentopo robustness", [args.bandwidth]):
+        return 2
     perturbations = None
     if args.perturbation:
         perturbations = {}
@@ -161,6 +176,8 @@ def sweep_main(argv: list[str]) -> int:
     from ..study import SWEEP_COLUMNS, SWEEP_METHODS, bandwidth_sweep, write_sweep
 
     args = _sweep_parser().parse_args(argv)
+    if not _bandwidths_ok("dentopo sweep", args.bandwidths):
+        return 2
     if _missing_figures("dentopo sweep", not args.no_figures):
         return 2
     try:

@@ -22,18 +22,27 @@ is not within ``AMBIGUITY`` of an integer is recomputed with far-field ratios
 ``REFINE_RATIOS`` (more of the sum exact each time; at ratio 64 the far
 field's error is far below 0.01) and, if it is still within
 ``HALF_INTEGER_BAND`` of a half-integer, by the exact sum over all
-triangles, so the decision never rests on the approximation.  The exact,
+triangles, so the decision does not rest on the approximation.  The exact,
 O(faces) per point, step is thereby kept for the few points where rounding
-could go either way (points on the surface itself), and cannot blow up on a
-mesh whose open holes give many points a fractional winding number.
+could go either way (points on the surface itself).  Its work is bounded
+(``EXACT_WORK`` solid angles per point and triangle, at least ``EXACT_MIN``):
+when very many points lie on the surface (an open patch under ``"winding"``,
+or a bandwidth so small that every centroid is its own vertex), the points
+closest to a half-integer get the exact sum and the others keep the ratio-64
+value, which can put on the wrong side only a point within its error (far
+below 0.01) of a half-integer, i.e. on the surface itself.
 
 Long, thin triangles (the fans that cap a mesh's holes) would make every
 cluster that holds them wide, and every query near them slow.  Triangles much
 longer than the mesh's typical edge are therefore cut into strips parallel to
 their shortest edge before the hierarchy is built: the surface, and so the
-winding number, is unchanged (solid angle is additive), up to rounding.
-Queries are processed in spatial (Morton) order, which keeps the parts of the
-hierarchy they visit in cache.  Everything is O((points + faces) log faces).
+winding number, is unchanged (solid angle is additive), up to rounding.  The
+strips add at most ``STRIP_BUDGET`` triangles per triangle of the mesh: every
+triangle gets the strips it needs except the very longest (the few to a stray
+vertex far away), which share what is left as fewer, longer strips instead of
+millions.  Queries are processed in spatial order (adaptive, so a
+stray vertex does not spoil it), which keeps the parts of the hierarchy they
+visit in cache.  Everything is O((points + faces) log faces).
 """
 
 from __future__ import annotations
@@ -55,8 +64,19 @@ AMBIGUITY = 0.2
 REFINE_RATIOS = (8.0, 64.0)
 #: After the last refinement, values this close to a half-integer get the exact sum.
 HALF_INTEGER_BAND = 0.05
+#: Each refinement pass (and the exact fallback) may visit at most this many
+#: nodes or triangles per point and triangle...
+WORK_PER_ITEM = 64
+#: ... or this many in all, whichever is more (a few tenths of a second).
+WORK_MIN = 4_000_000
+#: Points refined together at first; the batch doubles while the budget lasts.
+REFINE_BATCH = 256
 #: Triangles longer than this many times the median longest edge are cut into strips.
 LONG_TRIANGLE = 8.0
+#: The strips may add at most this many triangles per triangle of the mesh.
+STRIP_BUDGET = 1
+#: Beyond that budget, each strip is this many times longer than the one before.
+STRIP_GROWTH = 1.5
 _FOUR_PI = 4.0 * np.pi
 
 
@@ -189,8 +209,13 @@ def _build(tri, leaf_size):
 
 @njit(cache=True, parallel=True)
 def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, second_order):
+    """Approximate solid angles (4 pi w) at the queries, and each query's work.
+
+    The work is the number of nodes visited plus triangles summed exactly.
+    """
     n = queries.shape[0]
     out = np.empty(n)
+    work = np.zeros(n, np.int64)
     n_chunks = min(n, 256)
     for chunk in prange(n_chunks):
         stack = np.empty(256, np.int64)  # one traversal stack per chunk of queries
@@ -199,9 +224,11 @@ def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, se
             stack[0] = 0
             top = 1
             total = 0.0
+            visits = 0
             while top > 0:
                 top -= 1
                 node = stack[top]
+                visits += 1
                 dx = centre[node, 0] - q[0]
                 dy = centre[node, 1] - q[1]
                 dz = centre[node, 2] - q[2]
@@ -223,12 +250,14 @@ def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, se
                     total += term * inv3
                 elif left[node] < 0:
                     total += _triangle_sum(tri, lo[node], hi[node], q)
+                    visits += hi[node] - lo[node]
                 else:
                     stack[top] = left[node]
                     stack[top + 1] = left[node] + 1
                     top += 2
             out[i] = total
-    return out
+            work[i] = visits
+    return out, work
 
 
 @njit(cache=True, parallel=True)
@@ -240,14 +269,17 @@ def _exact(tri, queries):
 
 
 @njit(cache=True)
-def _cut_strips(tri, pieces, out):
-    """Cut triangle t into ``pieces[t]`` strips parallel to its shortest edge.
+def _cut_strips(tri, ptr, bounds, out):
+    """Cut triangle t into strips parallel to its shortest edge.
 
-    The strips keep the triangle's orientation: 1 + 2 (pieces - 1) triangles.
+    The strips run from the apex (the vertex opposite the shortest edge, at
+    ``s = 0``) to that edge (``s = 1``) between the fractions
+    ``bounds[ptr[t]:ptr[t + 1]]`` (0 first, 1 last), and keep the triangle's
+    orientation: 1 + 2 (pieces - 1) triangles.
     """
     k = 0
     for t in range(tri.shape[0]):
-        count = pieces[t]
+        count = ptr[t + 1] - ptr[t] - 1
         # apex: the vertex opposite the shortest edge
         best = 0
         shortest = np.inf
@@ -264,8 +296,8 @@ def _cut_strips(tri, pieces, out):
         va = tri[t, (best + 1) % 3]
         vb = tri[t, (best + 2) % 3]
         for s in range(count):
-            s0 = s / count
-            s1 = (s + 1) / count
+            s0 = bounds[ptr[t] + s]
+            s1 = bounds[ptr[t] + s + 1]
             p0 = apex + s0 * (va - apex)
             q0 = apex + s0 * (vb - apex)
             p1 = apex + s1 * (va - apex)
@@ -286,6 +318,38 @@ def _cut_strips(tri, pieces, out):
     return out
 
 
+def _strip_bounds(longest: np.ndarray, target: float, allowed: int):
+    """Strip counts and CSR fractions (see ``_cut_strips``) for the long triangles.
+
+    Equal strips of about `target` when they add at most `allowed` triangles
+    (always, on ordinary meshes).  Otherwise (long triangles to a stray vertex
+    far away) strips that start at `target` next to the shortest edge, which
+    lies by the rest of the mesh, and grow by ``STRIP_GROWTH`` towards the
+    apex: each strip is then shorter than its distance from that edge, so the
+    hierarchy treats it as far field from the mesh, and a triangle a million
+    times longer than the edges needs only about 40 strips.  If even those
+    are too many, the largest counts are capped (their last strips get longer).
+    """
+    uniform = np.ceil(np.minimum(longest / target, allowed + 1.0)).astype(np.int64)
+    if 2 * int((uniform - 1).sum()) <= allowed:
+        pieces = uniform
+        ptr = np.concatenate([[0], np.cumsum(pieces + 1)])
+        k = np.arange(ptr[-1]) - np.repeat(ptr[:-1], pieces + 1)
+        return pieces, ptr, k / np.repeat(pieces, pieces + 1)
+    first = np.minimum(target / longest, 1.0)  # the first strip, as a fraction
+    growth = STRIP_GROWTH
+    wanted = np.ceil(np.log1p((growth - 1.0) / first) / np.log(growth)).astype(np.int64)
+    pieces = 1 + _capped(np.maximum(wanted, 1) - 1, allowed // 2)
+    ptr = np.concatenate([[0], np.cumsum(pieces + 1)])
+    k = np.arange(ptr[-1]) - np.repeat(ptr[:-1], pieces + 1)
+    # distance from the shortest edge, as a fraction: 0, f, f (1 + g), ..., then 1
+    u = np.repeat(first, pieces + 1) * np.expm1(k * np.log(growth)) / (growth - 1.0)
+    u = np.where(k == np.repeat(pieces, pieces + 1), 1.0, np.minimum(u, 1.0))
+    # as fractions from the apex, ascending within each triangle
+    reverse = np.repeat(ptr[:-1] + ptr[1:] - 1, pieces + 1) - np.arange(ptr[-1])
+    return pieces, ptr, 1.0 - u[reverse]
+
+
 def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
     """Cut triangles much longer than the typical edge into strips (same surface).
 
@@ -299,18 +363,37 @@ def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
     target = LONG_TRIANGLE * float(np.median(longest))
     if not target > 0:
         return tri
-    pieces = np.ceil(longest / target).astype(np.int64)
-    long = np.flatnonzero(pieces > 1)
+    long = np.flatnonzero(longest > target)
     if len(long) == 0:
         return tri
-    pieces = pieces[long]
+    pieces, ptr, bounds = _strip_bounds(longest[long], target, STRIP_BUDGET * len(tri))
     strips = 2 * pieces - 1
-    cut = _cut_strips(np.ascontiguousarray(tri[long]), pieces, np.empty((int(strips.sum()), 3, 3)))
+    out = np.empty((int(strips.sum()), 3, 3))
+    cut = _cut_strips(np.ascontiguousarray(tri[long]), ptr, bounds, out)
     first = np.concatenate([[0], np.cumsum(strips)[:-1]])
     if not overwrite:
         tri = tri.copy()
     tri[long] = cut[first]
     return np.concatenate([tri, np.delete(cut, first, axis=0)])
+
+
+def _capped(wanted: np.ndarray, allowed: int) -> np.ndarray:
+    """``min(wanted, cap)`` with the largest cap whose total is at most `allowed`.
+
+    Small requests are granted in full; only the largest ones (the triangles
+    to a stray vertex far away) get fewer, longer strips.
+    """
+    if wanted.sum() <= allowed:
+        return wanted
+    s = np.sort(wanted)
+    m = len(s)
+    # total if the cap were s[j]: the j smaller requests in full, the rest s[j] each
+    totals = np.cumsum(s) - s + s * (m - np.arange(m))
+    j = int(np.searchsorted(totals, allowed, side="right")) - 1
+    if j < 0:
+        return np.minimum(wanted, allowed // m)
+    above = m - int(np.searchsorted(s, s[j], side="right"))  # requests a higher cap raises
+    return np.minimum(wanted, s[j] + (allowed - totals[j]) // max(above, 1))
 
 
 def _ordered_triangles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -367,21 +450,43 @@ def winding_number(
     order = spatial_order(points)
     value[order] = _query(
         tri, *tree, np.ascontiguousarray(points[order]), far_field_ratio, second_order
-    )
+    )[0]
     value /= _FOUR_PI
+    budget = _budget(len(points), len(tri))
     for ratio in REFINE_RATIOS:
         unsure = np.flatnonzero(np.abs(value - np.round(value)) > AMBIGUITY)
         if len(unsure) == 0:
             return value
-        queries = np.ascontiguousarray(points[unsure])
-        value[unsure] = _query(tri, *tree, queries, ratio, second_order) / _FOUR_PI
+        # closest to a half-integer first, in batches while the budget lasts
+        offset = np.abs(value[unsure] - np.floor(value[unsure]) - 0.5)
+        unsure = unsure[np.argsort(offset, kind="stable")]
+        spent = 0
+        start = 0
+        batch = REFINE_BATCH
+        while start < len(unsure) and spent < budget:
+            chosen = unsure[start : start + batch]
+            queries = np.ascontiguousarray(points[chosen])
+            refined, work = _query(tri, *tree, queries, ratio, second_order)
+            value[chosen] = refined / _FOUR_PI
+            spent += int(work.sum())
+            start += batch
+            batch *= 2
     # what is still ambiguous is genuinely fractional (a point on the surface, or
     # a surface that is not closed); only values near a half-integer, where
     # rounding could go either way, need the exact O(faces) sum
-    half = np.flatnonzero(np.abs(value - np.floor(value) - 0.5) < HALF_INTEGER_BAND)
+    offset = np.abs(value - np.floor(value) - 0.5)
+    half = np.flatnonzero(offset < HALF_INTEGER_BAND)
+    affordable = budget // max(1, len(tri))
+    if len(half) > affordable:  # e.g. every point on the surface: the closest calls first
+        half = half[np.argsort(offset[half], kind="stable")[:affordable]]
     if len(half):
         value[half] = _exact(tri, np.ascontiguousarray(points[half])) / _FOUR_PI
     return value
+
+
+def _budget(n_points: int, n_triangles: int) -> int:
+    """Work each refinement pass may do: ``WORK_PER_ITEM`` per item, at least ``WORK_MIN``."""
+    return max(WORK_MIN, WORK_PER_ITEM * (n_points + n_triangles))
 
 
 def inside(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:

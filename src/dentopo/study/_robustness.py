@@ -55,7 +55,7 @@ import numpy as np
 import trimesh
 
 from .._optional import DECIMATION, STUDY_FIGURES
-from ..ariadne import AriaDNEResult, ariaDNE
+from ..ariadne import AriaDNEResult, ariaDNE, check_bandwidth
 from ..formats import atomic_write
 from ..mesh import as_arrays, clean, vertex_areas
 from ..sign import SIGN_METHODS
@@ -417,6 +417,7 @@ def robustness_study(
     >>> study.row("smooth", "centroid")["sign_agreement"] > 0.9  # doctest: +SKIP
     True
     """
+    bandwidth = check_bandwidth(bandwidth)
     sign_methods = list(sign_methods)
     for method in sign_methods:
         if method not in SIGN_METHODS:
@@ -506,7 +507,7 @@ def bandwidth_sweep(
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
         Never modified.
     bandwidths : iterable of float
-        Positive bandwidths, in the order of the table.
+        Bandwidths in [1e-50, 1e50], in the order of the table.
     sign_methods : iterable of str, default ("centroid", "gaussian_curvature", "mean_curvature")
         The curvature methods use a ball of radius equal to the bandwidth.
 
@@ -514,7 +515,7 @@ def bandwidth_sweep(
     -------
     BandwidthSweep
     """
-    bandwidths = [_check_positive("bandwidth", b) for b in bandwidths]
+    bandwidths = [check_bandwidth(b) for b in bandwidths]
     if not bandwidths:
         raise ValueError("bandwidths is empty: give at least one bandwidth")
     sign_methods = list(sign_methods)

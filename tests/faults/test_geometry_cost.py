@@ -1,0 +1,92 @@
+"""Time and memory stay bounded by the number of vertices, whatever the geometry.
+
+One vertex a million times farther out than the rest used to take a 4k-vertex
+crown to 84 s and 15.8 GB: the winding number cut each of the long triangles
+to it into millions of strips, and the spatial order (a Morton curve over the
+bounding box) put every other vertex into one cell.  A bandwidth so small that
+every centroid is its own vertex put every point on the surface, where the
+winding number's refinement went through every triangle for every point.
+
+Each case runs in its own subprocess (``faults.harness``) under an address
+space limit, so that a regression fails with a MemoryError instead of taking
+the machine's memory, and reports its time and peak memory (``ru_maxrss``);
+the clean mesh is measured in the same test run.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from faults.harness import python
+
+#: Address space allowed to each case (a clean run peaks below 1 GB).
+ADDRESS_SPACE = 4 << 30
+#: A degenerate case may take this many times the clean mesh's time, plus SLACK seconds.
+TIME_FACTOR = 5.0
+SLACK = 3.0
+#: ... and this much more peak memory (MB) than the clean mesh.
+MEMORY_MARGIN_MB = 300
+
+SCRIPT = """
+import json, resource, time, warnings
+resource.setrlimit(resource.RLIMIT_AS, ({limit}, {limit}))
+import numpy as np
+from dentopo import ariaDNE
+from dentopo.samples import tooth
+
+warnings.simplefilter("ignore")
+ariaDNE(tooth(rings=4))  # loads the compiled code
+mesh = tooth(rings={rings})
+v, f = np.array(mesh.vertices), np.array(mesh.faces)
+size = float(np.ptp(v, axis=0).max())
+far = v.mean(axis=0) + 1e6 * size * np.array([0.8, 0.5, 0.33])
+case, bandwidth, method = {case!r}, 0.08, "auto"
+if case == "moved_vertex":  # a vertex of six triangles, far out
+    v[len(v) // 2] = far
+elif case == "far_triangle":  # a new vertex joined to the crown by a triangle
+    v = np.vstack([v, far])
+    f = np.vstack([f, [f[0, 0], f[0, 1], len(v) - 1]])
+elif case == "unreferenced":  # a vertex of no face (cleaning drops it)
+    v = np.vstack([v, far])
+elif case.startswith("tiny_bandwidth"):  # every centroid is its own vertex, on the surface
+    bandwidth = 1e-6
+    method = "exact" if case.endswith("exact") else "auto"
+start = time.perf_counter()
+result = ariaDNE((v, f), bandwidth=bandwidth, method=method)
+seconds = time.perf_counter() - start
+rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+print(json.dumps({{"seconds": seconds, "rss_mb": rss, "dne": result.dne}}))
+"""
+
+
+def _measure(case: str, rings: int) -> dict:
+    ran = python(SCRIPT.format(limit=ADDRESS_SPACE, rings=rings, case=case))
+    assert ran.returncode == 0, ran.describe()
+    return json.loads(ran.stdout.strip().splitlines()[-1])
+
+
+@pytest.fixture(scope="module")
+def clean():
+    return {rings: _measure("clean", rings) for rings in (37, 100, 180)}
+
+
+@pytest.mark.parametrize(
+    ("case", "rings"),
+    [
+        ("moved_vertex", 37),  # about 4.2k vertices, like normal.ply
+        ("far_triangle", 37),
+        ("unreferenced", 37),
+        ("moved_vertex", 180),  # about 98k vertices: the fast method
+        ("far_triangle", 180),
+        ("tiny_bandwidth", 100),  # about 30k vertices
+        ("tiny_bandwidth_exact", 100),
+    ],
+)
+def test_cost_stays_within_a_few_times_the_clean_mesh(clean, case, rings):
+    base = clean[rings]
+    got = _measure(case, rings)
+    assert got["seconds"] <= TIME_FACTOR * base["seconds"] + SLACK, (got, base)
+    assert got["rss_mb"] <= base["rss_mb"] + MEMORY_MARGIN_MB, (got, base)
+    assert got["dne"] >= 0

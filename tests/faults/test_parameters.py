@@ -1,0 +1,211 @@
+"""Numeric parameters out of range: a usage error naming the parameter and its range, never a crash.
+
+Every case runs in a subprocess (``faults.harness``): a segmentation fault or a
+hang fails the test instead of ending the test run.  ``-b 1e-155`` used to end
+in SIGSEGV: ``1 / h**2`` overflowed to inf, ``0 * inf`` (a vertex against
+itself) gave NaN, and the NaN indexed the kernel's exponential table far out
+of bounds.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from dentopo.samples import sample_paths
+from faults.harness import dentopo, python
+
+BANDWIDTH_WORDS = "bandwidth must lie in [1e-50, 1e+50]"
+CUTOFF_WORDS = "cutoff must lie in [0, 1)"
+
+
+@pytest.fixture(scope="module")
+def mesh_file() -> str:
+    return str(sample_paths()["tooth"])
+
+
+def _one_line(stderr: str) -> str:
+    lines = [line for line in stderr.splitlines() if line.strip()]
+    assert len(lines) == 1, stderr
+    return lines[0]
+
+
+#: Runs ``main(argv)`` for each argv in one process and prints the exit codes and
+#: what each printed on stderr (a crash in any fails the whole case).
+MANY = """
+import contextlib, io, json
+from dentopo.cli import main
+out = []
+for argv in {argvs!r}:
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(argv)
+    out.append([code, err.getvalue()])
+print(json.dumps(out))
+"""
+
+
+def _run_many(argvs):
+    ran = python(MANY.format(argvs=argvs))
+    assert ran.returncode == 0, ran.describe()
+    return json.loads(ran.stdout.strip().splitlines()[-1])
+
+
+def test_cli_refuses_the_reported_bandwidth(mesh_file, tmp_path):
+    # the command of the report, as a command: it ended in SIGSEGV
+    ran = dentopo(mesh_file, "-b", "1e-155", "-o", str(tmp_path / "t.csv"))
+    assert ran.returncode == 2, ran.describe()
+    line = _one_line(ran.stderr)
+    assert line == f"dentopo: {BANDWIDTH_WORDS}; got 1e-155"
+    assert not (tmp_path / "t.csv").exists()
+
+
+BAD_BANDWIDTHS = ["1e-300", "1e-51", "1e51", "1e155", "1e300", "nan", "inf", "-1", "0"]
+
+
+def test_cli_refuses_bandwidths_out_of_range(mesh_file, tmp_path):
+    argvs = [[mesh_file, f"--bandwidth={b}", "-o", str(tmp_path / "t.csv")] for b in BAD_BANDWIDTHS]
+    for value, (code, stderr) in zip(BAD_BANDWIDTHS, _run_many(argvs), strict=True):
+        assert code == 2, (value, stderr)
+        assert BANDWIDTH_WORDS in _one_line(stderr), (value, stderr)
+    assert not (tmp_path / "t.csv").exists()
+
+
+BAD_CUTOFFS = ["nan", "inf", "-0.5", "1", "2", "1e300"]
+
+
+def test_cli_refuses_cutoffs_out_of_range(mesh_file):
+    argvs = [[mesh_file, f"--cutoff={c}", "-o", "-"] for c in BAD_CUTOFFS]
+    for value, (code, stderr) in zip(BAD_CUTOFFS, _run_many(argvs), strict=True):
+        assert code == 2, (value, stderr)
+        assert CUTOFF_WORDS in _one_line(stderr), (value, stderr)
+
+
+BAD_OTHERS = [
+    ["--percentile=nan"],
+    ["--percentile=inf"],
+    ["--percentile=0"],
+    ["--percentile=-5"],
+    ["--percentile=1e300"],
+    ["--limits", "nan", "1"],
+    ["--limits", "-1", "inf"],
+    ["--limits", "-1", "1e300"],
+    ["--limits", "1", "-1"],
+    ["--jobs=-1"],
+]
+
+
+def test_cli_refuses_other_numbers_out_of_range(mesh_file):
+    argvs = [[mesh_file, *options, "-o", "-"] for options in BAD_OTHERS]
+    for options, (code, stderr) in zip(BAD_OTHERS, _run_many(argvs), strict=True):
+        assert code == 2, (options, stderr)
+        _one_line(stderr)
+
+
+@pytest.mark.parametrize("subcommand", ["sweep", "robustness"])
+def test_study_commands_refuse_a_bandwidth_out_of_range(mesh_file, tmp_path, subcommand):
+    ran = dentopo(subcommand, mesh_file, "-b", "1e-155", "-o", str(tmp_path), "--no-figures")
+    assert ran.returncode == 2, ran.describe()
+    assert BANDWIDTH_WORDS in _one_line(ran.stderr)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_library_raises_the_same_words():
+    code = """
+import json
+from dentopo import ariaDNE
+from dentopo.batch import make_settings
+from dentopo.samples import tooth
+mesh = tooth(rings=6)
+words = []
+for call in (
+    lambda: ariaDNE(mesh, bandwidth=1e-155),
+    lambda: ariaDNE(mesh, bandwidth=float("nan")),
+    lambda: ariaDNE(mesh, bandwidth=1e300, method="exact"),
+    lambda: ariaDNE(mesh, cutoff=float("inf")),
+    lambda: make_settings(bandwidth=1e-155),
+):
+    try:
+        call()
+    except ValueError as exc:
+        words.append(str(exc))
+    else:
+        words.append("no error")
+print(json.dumps(words))
+"""
+    ran = python(code)
+    assert ran.returncode == 0, ran.describe()
+    words = json.loads(ran.stdout)
+    assert [w.startswith(BANDWIDTH_WORDS) for w in words] == [True, True, True, False, True]
+    assert words[3].startswith(CUTOFF_WORDS)
+
+
+def test_the_kernel_never_reads_outside_its_table():
+    # the compiled loop itself, given what validation now keeps from it: an
+    # infinite 1/h**2 (h = 1e-155) and NaN distances must not crash it
+    code = """
+import numpy as np
+from dentopo.ariadne import _kernel
+points = np.random.default_rng(0).normal(size=(300, 3))
+points[5] = np.nan
+ordered = np.ascontiguousarray(points.T)
+runs = (np.array([0, 1]), np.array([0]), np.array([300]))
+block_of = np.zeros(300, dtype=np.int64)
+for inv_h2 in (np.inf, 1e300, 1.0):
+    sums, count = _kernel._run_sums(
+        *ordered, block_of, *runs, inv_h2, 0.0, 37.21, _kernel.exp_table(37.21)
+    )
+    assert sums.shape == (300, 10)
+print("ok")
+"""
+    ran = python(code)
+    assert ran.returncode == 0, ran.describe()
+    assert ran.stdout.strip() == "ok"
+
+
+ENDS_OPTIONS = [
+    ["--method", "exact"],
+    ["-d", "geodesic", "-c", "0.5"],
+    ["--sign-method", "winding", "-c", "5e-324"],
+    ["--sign-method", "gaussian_curvature"],
+]
+
+
+def test_the_ends_of_the_range_compute(mesh_file, tmp_path):
+    cases = [(b, options) for b in ("1e-50", "1e50") for options in ENDS_OPTIONS]
+    tables = [tmp_path / f"{k}.csv" for k in range(len(cases))]
+    argvs = [
+        [mesh_file, "-b", b, *options, "-q", "-o", str(table)]
+        for (b, options), table in zip(cases, tables, strict=True)
+    ]
+    for case, table, (code, stderr) in zip(cases, tables, _run_many(argvs), strict=True):
+        assert code == 0, (case, stderr)
+        row = table.read_text().splitlines()[1].split(",")
+        assert row[-2] == "ok", (case, row)
+        assert 0 <= float(row[1]) < 1e3, (case, row)  # finite, no more than a surface bends
+
+
+def test_fast_method_at_the_ends_of_the_range():
+    # h = 1e-50: every vertex alone (each one summed exactly: weight 1); h = 1e50:
+    # every weight 1 (the raw sums, not the derivatives, which cancel there)
+    code = """
+import numpy as np
+from dentopo.ariadne import _fastgauss
+from dentopo.mesh import prepare
+from dentopo.samples import tooth
+points = prepare(tooth(rings=10)).points
+alone = _fastgauss.fast_euclidean_moments(points, 1e-50)
+assert np.array_equal(alone.weight, np.ones(len(points)))
+assert not alone.first.any() and not alone.second.any()
+every = _fastgauss.fast_euclidean_moments(points, 1e50)
+assert np.allclose(every.weight, len(points), rtol=1e-9, atol=0)
+spread = ((points - points.mean(axis=0)) ** 2).sum()
+trace = np.trace(every.covariance, axis1=1, axis2=2) * len(points)
+assert np.allclose(trace, spread + len(points) * ((points - points.mean(axis=0)) ** 2).sum(1))
+print("ok")
+"""
+    pytest.importorskip("finufft")
+    ran = python(code)
+    assert ran.returncode == 0, ran.describe()
+    assert ran.stdout.strip() == "ok"
