@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import signal
 
-import numba
 import numpy as np
 import pytest
 import trimesh
@@ -164,15 +163,8 @@ def test_caller_list_is_not_modified(folder):
 
 # --- interrupts and dead workers (the subprocess cases are in tests/faults) -------------------
 
-#: Code that raises SIGINT as if it ran inside numba (where numba boxes a kernel's results).
-IN_NUMBA = compile(
-    "signal.raise_signal(signal.SIGINT)",
-    os.path.join(os.path.dirname(numba.__file__), "boxing.py"),
-    "exec",
-)
 
-
-def test_the_guard_raises_a_signal_at_once_outside_numba():
+def test_the_guard_raises_a_signal_at_once():
     before = signal.getsignal(signal.SIGINT)
     with guard_interrupts():
         with pytest.raises(Interrupted) as caught:
@@ -181,19 +173,11 @@ def test_the_guard_raises_a_signal_at_once_outside_numba():
     assert signal.getsignal(signal.SIGINT) is before  # restored
 
 
-def test_the_guard_defers_a_signal_inside_numba_to_the_next_check():
-    with guard_interrupts() as guard:
-        exec(IN_NUMBA, {"signal": signal})  # not raised in numba's code
-        assert guard.pending == signal.SIGINT
-        with pytest.raises(Interrupted):
-            guard.check()
-        guard.check()  # raised once
-
-
-def test_the_guard_raises_a_deferred_signal_as_the_block_ends():
+def test_the_guard_raises_a_held_signal_as_the_block_ends():
     with pytest.raises(Interrupted):
-        with guard_interrupts():
-            exec(IN_NUMBA, {"signal": signal})
+        with guard_interrupts() as guard:
+            with guard.held():
+                signal.raise_signal(signal.SIGINT)  # kept: not raised in the block
 
 
 def test_a_held_guard_keeps_the_signal_for_later():

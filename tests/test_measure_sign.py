@@ -63,3 +63,47 @@ def test_caller_mesh_is_not_modified(tooth):
 def test_unknown_kind_is_refused(tooth):
     with pytest.raises(ValueError, match="kind"):
         curvature_measure(tooth, "principal", 0.08)
+
+
+@pytest.mark.parametrize("kind", ["mean", "gaussian"])
+def test_the_chunks_do_not_change_a_bit(tooth, kind, monkeypatch):
+    # each vertex's neighbours come in the k-d tree's order whatever the chunk, so that
+    # a budget of pairs per chunk (small here: chunks of a few vertices) changes no sum
+    from dentopo.sign import _measures
+
+    whole = curvature_measure(tooth, kind, 0.3)
+    monkeypatch.setattr(_measures, "PAIRS_PER_CHUNK", 5000)
+    assert len(_measures._chunks(np.asarray(tooth.vertices), tooth.vertices, 0.5)) > 10
+    assert curvature_measure(tooth, kind, 0.3).tobytes() == whole.tobytes()
+
+
+def test_the_pair_bound_is_an_upper_bound(tooth):
+    from scipy.spatial import cKDTree
+
+    from dentopo.sign._measures import _ball_count_bound
+
+    rng = np.random.default_rng(1)
+    points = np.vstack([tooth.vertices, [[1e6, 0, 0]]])  # and one far away
+    items = rng.normal(size=(3000, 3))
+    for radius in (0.05, 0.3, 5.0):
+        exact = cKDTree(items).query_ball_point(points, radius, return_length=True)
+        bound = _ball_count_bound(points, items, radius)
+        assert (bound >= exact).all() and (bound <= len(items)).all()
+        assert bound.sum() > 0
+
+
+def test_long_edges_add_the_same_as_trimesh():
+    # a vertex far out: its edges are searched for on their own, among the vertices
+    # within reach of each, instead of widening every vertex's search
+    from dentopo.samples import tooth as make_tooth
+
+    crown = make_tooth(rings=12)
+    vertices = np.array(crown.vertices)
+    vertices[len(vertices) // 2] += 10.0 * np.ptp(vertices, axis=0).max()
+    mesh = trimesh.Trimesh(vertices, outward_faces(vertices, crown.faces), process=False)
+    radius = 0.02 * np.sqrt(mesh.area)
+    lengths = mesh.edges_unique_length
+    assert (lengths > max(8 * np.median(lengths), 2 * radius)).any()  # the case tested
+    ours = curvature_measure(mesh, "mean", 0.02)
+    reference = trimesh.curvature.discrete_mean_curvature_measure(mesh, mesh.vertices, radius)
+    np.testing.assert_allclose(ours, reference, atol=1e-12)

@@ -11,7 +11,12 @@ starts, workers included) are switched on by environment variables:
 ``DENTOPO_TEST_KILL_WORKER_ON=NAME``
     a worker process SIGKILLs itself as it starts the file called NAME;
 ``DENTOPO_TEST_SLOW_WRITE=SECONDS``
-    writing a table file first says ``dentopo-test: writing TABLE`` and waits.
+    writing a table file first says ``dentopo-test: writing TABLE`` and waits;
+``DENTOPO_TEST_KERNEL=1``
+    each exact ariaDNE kernel says ``dentopo-test: kernel N points`` as it starts.
+
+:func:`start_python` runs Python code the same way (a script that calls the
+library).
 """
 
 from __future__ import annotations
@@ -46,10 +51,10 @@ def environment(**variables: str) -> dict:
 class Live:
     """A ``dentopo`` process running in the background (see :func:`start`)."""
 
-    def __init__(self, args: list[str], *, cwd=None, env=None, **popen):
+    def __init__(self, args: list[str], *, cwd=None, env=None, module: bool = True, **popen):
         self.args = args
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "dentopo", *args],
+            [sys.executable, *(["-m", "dentopo"] if module else []), *args],
             cwd=cwd,
             env=env if env is not None else environment(),
             stdout=subprocess.PIPE,
@@ -151,6 +156,11 @@ class Live:
 def start(*argv: str, cwd=None, env=None, **popen) -> Live:
     """Start ``python -m dentopo ARGV`` in the background (see :class:`Live`)."""
     return Live(list(argv), cwd=cwd, env=env, **popen)
+
+
+def start_python(code: str, *, cwd=None, env=None, **popen) -> Live:
+    """Start ``python -c CODE`` in the background (see :class:`Live`)."""
+    return Live(["-c", code], cwd=cwd, env=env, module=False, **popen)
 
 
 def children_of(pid: int) -> list[int]:

@@ -6,6 +6,10 @@ to it into millions of strips, and the spatial order (a Morton curve over the
 bounding box) put every other vertex into one cell.  A bandwidth so small that
 every centroid is its own vertex put every point on the surface, where the
 winding number's refinement went through every triangle for every point.
+The mean-curvature sign searched every vertex's ball for edges within half
+the longest edge: the stray vertex's edges made that the whole mesh for
+every vertex (4.5 s and 1.5 GB instead of 0.2 s and 0.28 GB), and so did a
+large bandwidth, whose pairs were only bounded by 2048 rows at a time.
 
 Each case runs in its own subprocess (``faults.harness``) under an address
 space limit, so that a regression fails with a MemoryError instead of taking
@@ -42,9 +46,11 @@ mesh = tooth(rings={rings})
 v, f = np.array(mesh.vertices), np.array(mesh.faces)
 size = float(np.ptp(v, axis=0).max())
 far = v.mean(axis=0) + 1e6 * size * np.array([0.8, 0.5, 0.33])
-case, bandwidth, method = {case!r}, 0.08, "auto"
+case, bandwidth, method, sign = {case!r}, 0.08, "auto", {sign!r}
 if case == "moved_vertex":  # a vertex of six triangles, far out
     v[len(v) // 2] = far
+elif case == "nearby_vertex":  # ten times the crown's size out: its six edges are long
+    v[len(v) // 2] = v.mean(axis=0) + 10 * size * np.array([0.8, 0.5, 0.33])
 elif case == "far_triangle":  # a new vertex joined to the crown by a triangle
     v = np.vstack([v, far])
     f = np.vstack([f, [f[0, 0], f[0, 1], len(v) - 1]])
@@ -53,16 +59,18 @@ elif case == "unreferenced":  # a vertex of no face (cleaning drops it)
 elif case.startswith("tiny_bandwidth"):  # every centroid is its own vertex, on the surface
     bandwidth = 1e-6
     method = "exact" if case.endswith("exact") else "auto"
+elif case == "large_bandwidth":  # every vertex's ball holds the whole mesh
+    bandwidth = 2.0
 start = time.perf_counter()
-result = ariaDNE((v, f), bandwidth=bandwidth, method=method)
+result = ariaDNE((v, f), bandwidth=bandwidth, method=method, sign_method=sign)
 seconds = time.perf_counter() - start
 rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 print(json.dumps({{"seconds": seconds, "rss_mb": rss, "dne": result.dne}}))
 """
 
 
-def _measure(case: str, rings: int) -> dict:
-    ran = python(SCRIPT.format(limit=ADDRESS_SPACE, rings=rings, case=case))
+def _measure(case: str, rings: int, sign: str = "centroid") -> dict:
+    ran = python(SCRIPT.format(limit=ADDRESS_SPACE, rings=rings, case=case, sign=sign))
     assert ran.returncode == 0, ran.describe()
     return json.loads(ran.stdout.strip().splitlines()[-1])
 
@@ -70,6 +78,11 @@ def _measure(case: str, rings: int) -> dict:
 @pytest.fixture(scope="module")
 def clean():
     return {rings: _measure("clean", rings) for rings in (37, 100, 180)}
+
+
+@pytest.fixture(scope="module")
+def clean_mean_curvature():
+    return _measure("clean", 37, "mean_curvature")
 
 
 @pytest.mark.parametrize(
@@ -88,5 +101,25 @@ def test_cost_stays_within_a_few_times_the_clean_mesh(clean, case, rings):
     base = clean[rings]
     got = _measure(case, rings)
     assert got["seconds"] <= TIME_FACTOR * base["seconds"] + SLACK, (got, base)
+    assert got["rss_mb"] <= base["rss_mb"] + MEMORY_MARGIN_MB, (got, base)
+    assert got["dne"] >= 0
+
+
+@pytest.mark.parametrize("case", ["moved_vertex", "nearby_vertex"])
+def test_the_mean_curvature_sign_stays_within_a_few_times_the_clean_mesh(
+    clean_mean_curvature, case
+):
+    base = clean_mean_curvature
+    got = _measure(case, 37, "mean_curvature")
+    assert got["seconds"] <= TIME_FACTOR * base["seconds"] + SLACK, (got, base)
+    assert got["rss_mb"] <= base["rss_mb"] + MEMORY_MARGIN_MB, (got, base)
+    assert got["dne"] >= 0
+
+
+def test_the_curvature_signs_memory_is_bounded_whatever_the_bandwidth(clean_mean_curvature):
+    # every vertex's ball holds every edge: the time grows with the pairs (vertices x
+    # edges), but they are found a few million at a time
+    base = clean_mean_curvature
+    got = _measure("large_bandwidth", 37, "mean_curvature")
     assert got["rss_mb"] <= base["rss_mb"] + MEMORY_MARGIN_MB, (got, base)
     assert got["dne"] >= 0

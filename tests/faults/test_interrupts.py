@@ -18,7 +18,7 @@ import time
 import pytest
 
 from faults.harness import python
-from faults.live import alive, environment, start, write_tooth
+from faults.live import alive, environment, start, start_python, write_tooth
 
 EXACT = ("--method", "exact")  # the compiled kernel, whatever the number of vertices
 
@@ -147,3 +147,187 @@ def test_compute_batch_raises_keyboard_interrupt_not_a_crash(meshes):
     ran = python(LIBRARY.format(path=str(meshes / "b.ply")))
     assert ran.returncode == 0, ran.describe()
     assert ran.stdout.strip() == "KeyboardInterrupt", ran.describe()
+
+
+# --- the library, and the subcommands, outside the batch runner's guard ---------------------
+#
+# Before the fix numba's compiled kernels returned new arrays, which numba boxes with a
+# little Python code after the loop: a Ctrl-C during the loop was raised there, and
+# ariaDNE called from a script ended with "SystemError: ... returned a result with an
+# exception set" (or a segmentation fault), after the whole kernel had run.
+
+#: Seconds from the signal to the KeyboardInterrupt: the kernel runs in slices of
+#: a few tenths of a second, and Python reacts between them.
+PROMPT = 1.0
+
+ARIADNE_SCRIPT = """
+import sys, time
+from dentopo import ariaDNE
+from dentopo.samples import tooth
+
+mesh = tooth(rings=150)  # about 68k vertices: the exact kernel runs for seconds
+ariaDNE(tooth(rings=4), method="exact")  # loads the compiled code
+
+def phase(name):
+    print(f"phase {{name}}", file=sys.stderr, flush=True)
+
+try:
+    ariaDNE(mesh, method="exact", progress=phase)
+except KeyboardInterrupt:
+    print("KeyboardInterrupt", file=sys.stderr, flush=True)
+    sys.exit(0)
+print("finished without an interrupt", file=sys.stderr, flush=True)
+"""
+
+WINDING_SCRIPT = """
+import sys
+import numpy as np
+from dentopo.mesh import close_holes, prepare
+from dentopo.samples import tooth
+from dentopo.sign import inside
+
+prepared = prepare(tooth(rings=150))
+vertices, faces = close_holes(prepared.points, np.asarray(prepared.mesh.faces))
+rng = np.random.default_rng(0)
+points = np.repeat(prepared.points, 8, axis=0)
+points += rng.normal(scale=1e-3, size=points.shape)  # near the surface: slow queries
+inside(vertices[:40], faces[:10], points[:10])  # loads the compiled code
+print("start", file=sys.stderr, flush=True)
+try:
+    inside(vertices, faces, points)
+except KeyboardInterrupt:
+    print("KeyboardInterrupt", file=sys.stderr, flush=True)
+    sys.exit(0)
+print("finished without an interrupt", file=sys.stderr, flush=True)
+"""
+
+
+def interrupt_when(run, pattern: str, delay: float) -> float:
+    """Send SIGINT `delay` seconds after a stderr line matching `pattern`; when it was sent."""
+    run.wait_for(pattern, timeout=120.0)
+    time.sleep(delay)
+    sent = time.monotonic()
+    run.send(signal.SIGINT)
+    return sent
+
+
+def test_ctrl_c_in_ariadne_called_from_a_script_is_a_prompt_keyboard_interrupt():
+    run = start_python(ARIADNE_SCRIPT.format())
+    sent = interrupt_when(run, r"^phase kernel", 1.0)  # well inside the compiled loop
+    run.wait_for(r"KeyboardInterrupt|finished|Error", timeout=60.0)
+    seconds = time.monotonic() - sent
+    ran = run.finish()
+    assert ran.returncode == 0, ran.describe()
+    assert ran.stderr.splitlines()[-1] == "KeyboardInterrupt", ran.describe()
+    assert "phase bending" not in ran.stderr  # stopped inside the kernel
+    assert seconds < PROMPT, (seconds, ran.describe())
+
+
+def test_ctrl_c_in_the_winding_number_is_a_prompt_keyboard_interrupt():
+    run = start_python(WINDING_SCRIPT)
+    sent = interrupt_when(run, r"^start", 1.5)  # in the queries (about 5 s)
+    run.wait_for(r"KeyboardInterrupt|finished|Error", timeout=60.0)
+    seconds = time.monotonic() - sent
+    ran = run.finish()
+    assert ran.returncode == 0, ran.describe()
+    assert ran.stderr.splitlines()[-1] == "KeyboardInterrupt", ran.describe()
+    assert seconds < PROMPT, (seconds, ran.describe())
+
+
+@pytest.fixture(scope="module")
+def study_mesh(tmp_path_factory):
+    """A crown just below the fast method's threshold: ``auto`` runs the exact kernel."""
+    return write_tooth(tmp_path_factory.mktemp("study") / "crown.ply", 80)
+
+
+@pytest.mark.parametrize("command", ["sweep", "robustness"])
+def test_ctrl_c_in_the_study_commands_exits_130_with_one_line(study_mesh, tmp_path, command):
+    options = ["--no-figures", "--sign-method", "centroid", "-o", str(tmp_path)]
+    if command == "robustness":
+        options += ["--perturbation", f"same={study_mesh}", "--no-classic"]
+    run = start(command, str(study_mesh), *options, env=environment(DENTOPO_TEST_KERNEL="1"))
+    sent = interrupt_when(run, r"dentopo-test: kernel", 0.2)  # the kernel runs for 0.5 s
+    ran = run.finish()
+    seconds = time.monotonic() - sent
+    lines = [line for line in ran.stderr.splitlines() if not line.startswith("dentopo-test:")]
+    assert ran.returncode == 130, ran.describe()
+    assert lines == ["dentopo: interrupted"], ran.describe()
+    assert seconds < PROMPT + 1.0, (seconds, ran.describe())  # the process's exit included
+
+
+MIXED_PLY_HEADER = b"""ply
+format binary_little_endian 1.0
+element vertex 5
+property float x
+property float y
+property float z
+element face 2
+property list uchar int vertex_indices
+end_header
+"""
+
+
+def _returns_an_array(numba_type) -> bool:
+    from numba.core import types
+
+    if isinstance(numba_type, types.Array):
+        return True
+    if isinstance(numba_type, types.BaseTuple):
+        return any(_returns_an_array(t) for t in numba_type.types)
+    return False
+
+
+def test_no_compiled_kernel_returns_an_array(tmp_path):
+    # the root of the crashes above: whatever numba compiles for dentopo returns
+    # nothing or a number, never an array (a new kernel that does fails here)
+    import importlib
+    import inspect
+    import pkgutil
+    import struct
+
+    import numpy as np
+    from numba.core.registry import CPUDispatcher
+
+    import dentopo
+    from dentopo import ariaDNE
+    from dentopo.mesh import load_mesh, orient_consistently
+    from dentopo.samples import tooth
+    from dentopo.sign import exact_winding_number, winding_number
+
+    crown = tooth(rings=8)
+    for sign_method in ("centroid", "winding", "mean_curvature", "gaussian_curvature"):
+        ariaDNE(crown, method="exact", sign_method=sign_method)
+    vertices, faces = np.array(crown.vertices), np.array(crown.faces)
+    vertices[5] = 1e3  # long triangles, cut into strips
+    winding_number(vertices, faces, vertices[:10])
+    exact_winding_number(vertices, faces, vertices[:10])
+    flipped = faces.copy()
+    flipped[0] = flipped[0, ::-1]
+    orient_consistently(flipped, len(vertices))
+    mixed = tmp_path / "mixed.ply"  # rows of different lengths: a triangle and a quad
+    points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], "<f4")
+    rows = struct.pack("<B3i", 3, 0, 1, 4) + struct.pack("<B4i", 4, 0, 1, 2, 3)
+    mixed.write_bytes(MIXED_PLY_HEADER + points.tobytes() + rows)
+    load_mesh(mixed)
+
+    kernels = {}
+    for info in pkgutil.walk_packages(dentopo.__path__, "dentopo."):
+        if info.name.endswith("__main__"):  # runs the command
+            continue
+        try:
+            module = importlib.import_module(info.name)
+        except ImportError:  # an extra that is not installed: no kernel there
+            continue
+        for name, value in vars(module).items():
+            if isinstance(value, CPUDispatcher) and value.__module__ == module.__name__:
+                if value.targetoptions.get("inline", "never") == "never":
+                    kernels[f"{module.__name__}.{name}"] = value
+    assert len(kernels) >= 10, sorted(kernels)
+    sources = {name: inspect.getsource(kernel.py_func) for name, kernel in kernels.items()}
+    for name, kernel in kernels.items():
+        short = name.rsplit(".", 1)[1]
+        inner = any(f"{short}(" in source for other, source in sources.items() if other != name)
+        # a kernel called only by other kernels is compiled into them: not boxed
+        assert kernel.nopython_signatures or inner, f"{name} was not run by this test"
+        for signature in kernel.nopython_signatures:
+            assert not _returns_an_array(signature.return_type), (name, signature)

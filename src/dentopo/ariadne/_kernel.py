@@ -110,134 +110,220 @@ BLOCK_POINTS = 64
 
 
 @njit(cache=True)
-def _candidate_runs(lo, hi, block_start, radius2):
-    """For each block, the runs of points (Morton order) in blocks within reach.
+def _candidate_runs(lo, hi, block_start, radius2, first, stop, fill, run_ptr, run_start, run_end):
+    """For blocks ``first`` to ``stop - 1``, the runs of points (Morton order) within reach.
 
     Blocks whose bounding boxes are within the radius of each other are
     candidates; consecutive candidate blocks are merged into one run, so that
-    the kernel loops over a few long ranges of points.  Returns CSR arrays:
-    runs of block ``a`` are ``run_start[run_ptr[a]:run_ptr[a + 1]]`` to the
-    matching ``run_end``.
+    the kernel loops over a few long ranges of points.  The runs are CSR
+    arrays: those of block ``a`` are ``run_start[run_ptr[a]:run_ptr[a + 1]]``
+    to the matching ``run_end``.  Two passes: without `fill`, the number of
+    runs of block ``a`` goes to ``run_ptr[a + 1]`` (the caller then sums them
+    up); with `fill`, the runs go to `run_start` and `run_end`.
+
+    Writes into arrays of the caller and returns nothing: numba boxes a
+    returned array with a little Python code, where a Ctrl-C that arrived
+    during the loop would be raised and crash the caller (see ``_run_sums``).
     """
     n_blocks = lo.shape[0]
-    run_ptr = np.zeros(n_blocks + 1, np.int64)
-    starts = []
-    ends = []
-    for a in range(n_blocks):
+    for a in range(first, stop):
+        k = run_ptr[a] if fill else 0
         open_run = False
         for b in range(n_blocks):
             gap2 = 0.0
-            for k in range(3):
-                g = max(lo[b, k] - hi[a, k], lo[a, k] - hi[b, k], 0.0)
+            for c in range(3):
+                g = max(lo[b, c] - hi[a, c], lo[a, c] - hi[b, c], 0.0)
                 gap2 += g * g
             if gap2 <= radius2:
                 if open_run:
-                    ends[-1] = block_start[b + 1]
+                    if fill:
+                        run_end[k - 1] = block_start[b + 1]
                 else:
-                    starts.append(block_start[b])
-                    ends.append(block_start[b + 1])
+                    if fill:
+                        run_start[k] = block_start[b]
+                        run_end[k] = block_start[b + 1]
+                    k += 1
                     open_run = True
             else:
                 open_run = False
-        run_ptr[a + 1] = len(starts)
-    run_start = np.empty(len(starts), np.int64)
-    run_end = np.empty(len(ends), np.int64)
-    for r in range(len(starts)):
-        run_start[r] = starts[r]
-        run_end[r] = ends[r]
-    return run_ptr, run_start, run_end
+        if not fill:
+            run_ptr[a + 1] = k
 
 
 @njit(cache=True, parallel=True, fastmath=True)
-def _run_sums(xs, ys, zs, block_of, run_ptr, run_start, run_end, inv_h2, cutoff, radius2, table):
-    """Kernel sums for every vertex over the candidate runs of its block.
+def _run_sums(
+    xs,
+    ys,
+    zs,
+    block_of,
+    run_ptr,
+    run_start,
+    run_end,
+    inv_h2,
+    cutoff,
+    radius2,
+    table,
+    parts,
+    out,
+    count,
+):
+    """Kernel sums for vertices ``parts[0]`` to ``parts[-1] - 1`` over the runs of their block.
 
     The weight ``exp(-d2 / h2)`` is computed inline as ``table[m] * P(r)`` (see
     ``EXP_TABLE_STEPS``; ``P`` is the degree-10 Taylor polynomial in Estrin's
     form, truncation below 1e-21, so the weight is within a couple of ulps of
     libm's ``exp``), which LLVM vectorises, unlike a call to ``exp``.  Pairs
     beyond the radius or with weight ``<= cutoff`` get weight zero.
+
+    The sums go to ``out[i]`` (weight, first moment, then the second moment's
+    xx, xy, xz, yy, yz, zz) and the number of neighbours to ``count[i]``:
+    arrays of the caller.  Nothing is returned, because returning new arrays
+    is not safe from Ctrl-C: numba boxes them with a little Python code (it
+    unpickles the array type), where a KeyboardInterrupt that arrived during
+    the loop is raised; a tuple of boxes then holds a NULL, and the caller
+    gets a ``SystemError`` or a segmentation fault.  Each vertex's sums
+    depend on that vertex alone, so the caller can compute them in slices
+    (and Python then reacts to Ctrl-C between slices).  Thread ``k`` computes
+    the vertices ``parts[k]`` to ``parts[k + 1] - 1``.
     """
-    n = xs.shape[0]
-    out = np.zeros((n, 10))
-    count = np.zeros(n, np.int64)
     t_max = (table.shape[0] - 2) * 1.0
     scale = inv_h2 * EXP_TABLE_STEPS
     step = 1.0 / EXP_TABLE_STEPS
-    for row in prange(n):
-        i = np.int64(row)
-        a = block_of[i]
-        xi = xs[i]
-        yi = ys[i]
-        zi = zs[i]
-        s0 = s1x = s1y = s1z = 0.0
-        sxx = sxy = sxz = syy = syz = szz = 0.0
-        kept = 0.0
-        for run in range(run_ptr[a], run_ptr[a + 1]):
-            # fresh accumulators per run: the innermost loop owns its reductions,
-            # which LLVM vectorises (carried across the run loop, it does not)
-            r0 = r1x = r1y = r1z = 0.0
-            rxx = rxy = rxz = ryy = ryz = rzz = 0.0
-            rk = 0.0
-            # views indexed from 0: numba then knows the index is non-negative and
-            # drops its negative-index wraparound, which would turn loads into gathers
-            xr = xs[run_start[run] : run_end[run]]
-            yr = ys[run_start[run] : run_end[run]]
-            zr = zs[run_start[run] : run_end[run]]
-            for j in range(xr.shape[0]):
-                dx = xr[j] - xi
-                dy = yr[j] - yi
-                dz = zr[j] - zi
-                d2 = dx * dx + dy * dy + dz * dz
-                t = d2 * scale
-                t = t if t < t_max else t_max  # NaN (0 * inf) too: never outside the table
-                mf = np.floor(t)
-                r = (mf - t) * step
-                r2 = r * r
-                r4 = r2 * r2
-                q0 = (1.0 + r) + (1 / 2 + r * (1 / 6)) * r2
-                q1 = (1 / 24 + r * (1 / 120)) + (1 / 720 + r * (1 / 5040)) * r2
-                q2 = (1 / 40320 + r * (1 / 362880)) + (1 / 3628800) * r2
-                w = table[np.int32(mf)] * (q0 + (q1 + q2 * r4) * r4)
-                keep = (d2 <= radius2) and (w > cutoff)
-                w = w if keep else 0.0
-                rk += 1.0 if keep else 0.0
-                wx = w * dx
-                wy = w * dy
-                wz = w * dz
-                r0 += w
-                r1x += wx
-                r1y += wy
-                r1z += wz
-                rxx += wx * dx
-                rxy += wx * dy
-                rxz += wx * dz
-                ryy += wy * dy
-                ryz += wy * dz
-                rzz += wz * dz
-            s0 += r0
-            s1x += r1x
-            s1y += r1y
-            s1z += r1z
-            sxx += rxx
-            sxy += rxy
-            sxz += rxz
-            syy += ryy
-            syz += ryz
-            szz += rzz
-            kept += rk
-        out[i, 0] = s0
-        out[i, 1] = s1x
-        out[i, 2] = s1y
-        out[i, 3] = s1z
-        out[i, 4] = sxx
-        out[i, 5] = sxy
-        out[i, 6] = sxz
-        out[i, 7] = syy
-        out[i, 8] = syz
-        out[i, 9] = szz
-        count[i] = np.int64(kept)
-    return out, count
+    # one part of rows per thread, of about equal work: numba would give each thread
+    # an equal number of rows (parallel_chunksize does not balance them either)
+    for part in prange(parts.shape[0] - 1):
+        for row in range(parts[part], parts[part + 1]):
+            i = np.int64(row)
+            a = block_of[i]
+            xi = xs[i]
+            yi = ys[i]
+            zi = zs[i]
+            s0 = s1x = s1y = s1z = 0.0
+            sxx = sxy = sxz = syy = syz = szz = 0.0
+            kept = 0.0
+            for run in range(run_ptr[a], run_ptr[a + 1]):
+                # fresh accumulators per run: the innermost loop owns its reductions,
+                # which LLVM vectorises (carried across the run loop, it does not)
+                r0 = r1x = r1y = r1z = 0.0
+                rxx = rxy = rxz = ryy = ryz = rzz = 0.0
+                rk = 0.0
+                # views indexed from 0: numba then knows the index is non-negative and
+                # drops its negative-index wraparound, which would turn loads into gathers
+                xr = xs[run_start[run] : run_end[run]]
+                yr = ys[run_start[run] : run_end[run]]
+                zr = zs[run_start[run] : run_end[run]]
+                for j in range(xr.shape[0]):
+                    dx = xr[j] - xi
+                    dy = yr[j] - yi
+                    dz = zr[j] - zi
+                    d2 = dx * dx + dy * dy + dz * dz
+                    t = d2 * scale
+                    t = t if t < t_max else t_max  # NaN (0 * inf) too: never outside the table
+                    mf = np.floor(t)
+                    r = (mf - t) * step
+                    r2 = r * r
+                    r4 = r2 * r2
+                    q0 = (1.0 + r) + (1 / 2 + r * (1 / 6)) * r2
+                    q1 = (1 / 24 + r * (1 / 120)) + (1 / 720 + r * (1 / 5040)) * r2
+                    q2 = (1 / 40320 + r * (1 / 362880)) + (1 / 3628800) * r2
+                    w = table[np.int32(mf)] * (q0 + (q1 + q2 * r4) * r4)
+                    keep = (d2 <= radius2) and (w > cutoff)
+                    w = w if keep else 0.0
+                    rk += 1.0 if keep else 0.0
+                    wx = w * dx
+                    wy = w * dy
+                    wz = w * dz
+                    r0 += w
+                    r1x += wx
+                    r1y += wy
+                    r1z += wz
+                    rxx += wx * dx
+                    rxy += wx * dy
+                    rxz += wx * dz
+                    ryy += wy * dy
+                    ryz += wy * dz
+                    rzz += wz * dz
+                s0 += r0
+                s1x += r1x
+                s1y += r1y
+                s1z += r1z
+                sxx += rxx
+                sxy += rxy
+                sxz += rxz
+                syy += ryy
+                syz += ryz
+                szz += rzz
+                kept += rk
+            out[i, 0] = s0
+            out[i, 1] = s1x
+            out[i, 2] = s1y
+            out[i, 3] = s1z
+            out[i, 4] = sxx
+            out[i, 5] = sxy
+            out[i, 6] = sxz
+            out[i, 7] = syy
+            out[i, 8] = syz
+            out[i, 9] = szz
+            count[i] = np.int64(kept)
+
+
+#: Pairs of points one call of the compiled kernel goes through per thread (about 0.15 s):
+#: Python reacts to Ctrl-C between calls, and not during one.
+PAIRS_PER_CALL = 1 << 26
+#: ... but at least this many blocks per thread, so that the threads share the work evenly.
+SLICE_BLOCKS = 4
+#: Block pairs whose bounding boxes one call of ``_candidate_runs`` compares (about 0.1 s).
+BOX_TESTS_PER_CALL = 1 << 24
+
+
+def slices(cost: np.ndarray, budget: float, *, minimum: int = 1) -> list[tuple[int, int]]:
+    """Consecutive ``(first, stop)`` ranges of items whose summed `cost` is about `budget`.
+
+    Each range holds at least `minimum` items (one at least), and more while
+    their cost stays within the budget; together they cover every item once,
+    in order.
+    """
+    total = np.cumsum(cost, dtype=np.float64)
+    minimum = max(1, int(minimum))
+    bounds = []
+    first = 0
+    while first < len(cost):
+        before = total[first - 1] if first else 0.0
+        stop = int(np.searchsorted(total, before + budget, side="right"))
+        stop = min(len(cost), max(stop, first + minimum))
+        bounds.append((first, stop))
+        first = stop
+    return bounds
+
+
+def balanced_parts(cost: np.ndarray, first: int, stop: int, parts: int) -> np.ndarray:
+    """Bounds that cut items `first` to ``stop - 1`` into `parts` ranges of about equal `cost`."""
+    total = np.cumsum(cost[first:stop], dtype=np.float64)
+    if len(total) == 0:
+        return np.array([first, stop], np.int64)
+    cuts = np.searchsorted(total, total[-1] * np.arange(1, parts) / parts, side="right")
+    return np.concatenate([[first], first + cuts, [stop]]).astype(np.int64)
+
+
+def candidate_runs(
+    lo: np.ndarray, hi: np.ndarray, block_start: np.ndarray, radius2: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``run_ptr, run_start, run_end`` of ``_candidate_runs``, in slices of blocks."""
+    n_blocks = len(lo)
+    run_ptr = np.zeros(n_blocks + 1, np.int64)
+    per_call = max(1, BOX_TESTS_PER_CALL // max(n_blocks, 1))
+    ranges = [(a, min(a + per_call, n_blocks)) for a in range(0, n_blocks, per_call)]
+    nothing = np.empty(0, np.int64)
+    for first, stop in ranges:
+        _candidate_runs(lo, hi, block_start, radius2, first, stop, False, run_ptr, nothing, nothing)
+    np.cumsum(run_ptr, out=run_ptr)
+    run_start = np.empty(run_ptr[-1], np.int64)
+    run_end = np.empty(run_ptr[-1], np.int64)
+    for first, stop in ranges:
+        _candidate_runs(
+            lo, hi, block_start, radius2, first, stop, True, run_ptr, run_start, run_end
+        )
+    return run_ptr, run_start, run_end
 
 
 def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> KernelMoments:
@@ -270,22 +356,23 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
     block_start = np.append(np.arange(0, n, BLOCK_POINTS), n).astype(np.int64)
     lo = np.minimum.reduceat(ordered, block_start[:-1], axis=0)
     hi = np.maximum.reduceat(ordered, block_start[:-1], axis=0)
-    run_ptr, run_start, run_end = _candidate_runs(lo, hi, block_start, radius**2)
+    run_ptr, run_start, run_end = candidate_runs(lo, hi, block_start, radius**2)
     block_of = np.repeat(np.arange(len(block_start) - 1), np.diff(block_start))
-    with numba.parallel_chunksize(64):  # dynamic scheduling: rows differ in cost
-        sums, count = _run_sums(
-            np.ascontiguousarray(ordered[:, 0]),
-            np.ascontiguousarray(ordered[:, 1]),
-            np.ascontiguousarray(ordered[:, 2]),
-            block_of,
-            run_ptr,
-            run_start,
-            run_end,
-            1.0 / bandwidth**2,
-            float(cutoff),
-            radius**2,
-            exp_table(radius**2 / bandwidth**2),
-        )
+    xs, ys, zs = (np.ascontiguousarray(ordered[:, k]) for k in range(3))
+    constants = (1.0 / bandwidth**2, float(cutoff), radius**2, exp_table(radius**2 / bandwidth**2))
+    sums = np.zeros((n, 10))
+    count = np.zeros(n, np.int64)
+    threads = numba.get_num_threads()
+    # the work: each row of a block goes through the points of the block's runs
+    run_length = np.concatenate([[0], np.cumsum(run_end - run_start)])
+    reach = run_length[run_ptr[1:]] - run_length[run_ptr[:-1]]
+    sizes = np.diff(block_start)
+    row_reach = np.repeat(reach, sizes)
+    for first, stop in slices(
+        reach * sizes, PAIRS_PER_CALL * threads, minimum=SLICE_BLOCKS * threads
+    ):
+        parts = balanced_parts(row_reach, block_start[first], block_start[stop], threads)
+        _run_sums(xs, ys, zs, block_of, run_ptr, run_start, run_end, *constants, parts, sums, count)
     moments = np.empty_like(sums)
     moments[order] = sums
     counts = np.empty_like(count)

@@ -4,7 +4,7 @@
 files; ``_runner`` computes them (one process, a local pool of workers, or a
 Dask cluster), one record per file, resumable, one bad file never stopping the
 batch.  ``_pool`` is the local pool, which survives a worker's death;
-``_interrupts`` makes Ctrl-C stop a batch at a safe point, never inside numba.
+``_interrupts`` makes Ctrl-C and SIGTERM stop a batch, never inside a critical section.
 
 May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topography`,
 :mod:`dentopo.formats`.  Nothing from figures, study or cli.

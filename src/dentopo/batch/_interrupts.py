@@ -1,20 +1,17 @@
-"""Interrupts (Ctrl-C, SIGTERM) that stop a batch at a safe point, never inside numba.
-
-Why this exists: numba's compiled wrapper of a function that returns a tuple of
-arrays runs a little Python code after the compiled loop has finished, while it
-boxes the arrays (it unpickles each array's Python type).  A SIGINT that
-arrived during the loop raises KeyboardInterrupt inside that code; the box is
-then NULL, numba puts the NULL into the result tuple without checking, and the
-caller gets a ``SystemError`` ("returned a result with an exception set") or a
-segmentation fault when it unpacks the tuple.  The ariaDNE kernel
-(``_run_sums``) and the winding-number tree (``_build``) return such tuples.
+"""Interrupts (Ctrl-C, SIGTERM) that stop a batch at a safe point.
 
 :class:`InterruptGuard` replaces the handlers of the signals it guards with one
-that raises :class:`Interrupted` (a KeyboardInterrupt) at once, unless numba's
-own Python code is running (then it only records the signal, and
-:meth:`InterruptGuard.check`, called at the next safe point such as the start of
-an ariaDNE phase or of the next mesh, raises it) or the guard is *held* (a
-critical section such as appending a finished row; checked when it ends).
+that raises :class:`Interrupted` (a KeyboardInterrupt) at once, unless the
+guard is *held* (a critical section such as appending a finished row; the
+signal is then raised by :meth:`InterruptGuard.check` as it ends).  SIGTERM (a
+scheduler's time limit) thereby stops a run like Ctrl-C does.
+
+A Ctrl-C during a compiled kernel needs no care here: the kernels write into
+arrays of the caller and return nothing or a number, so the KeyboardInterrupt
+is raised cleanly when the kernel returns (numba boxes a returned array with a
+little Python code, where the interrupt used to be raised, leaving a NULL in
+the result: a ``SystemError`` or a segmentation fault).  The exact ariaDNE
+kernel runs in slices of a few tenths of a second, so it is raised promptly.
 
 Raising at once is prompt (a Ctrl-C while a large file is read stops the
 reading), but third-party code that catches every exception can swallow it:
@@ -27,39 +24,9 @@ keeping a row that cannot be trusted.
 from __future__ import annotations
 
 import contextlib
-import os
 import signal
 import threading
 from collections.abc import Iterator
-
-_NUMBA_DIR = None
-
-
-def _numba_dir() -> str | None:
-    global _NUMBA_DIR
-    if _NUMBA_DIR is None:
-        try:
-            import numba
-        except ImportError:  # pragma: no cover -- a core dependency
-            return None
-        _NUMBA_DIR = os.path.dirname(os.path.abspath(numba.__file__)) + os.sep
-    return _NUMBA_DIR
-
-
-def in_numba(frame) -> bool:
-    """Whether `frame` or one of its callers is numba's own Python code.
-
-    That is where a signal handler runs when the signal arrived during a
-    compiled function: in the code that boxes its results.
-    """
-    directory = _numba_dir()
-    if directory is None:
-        return False
-    while frame is not None:
-        if os.path.abspath(frame.f_code.co_filename).startswith(directory):
-            return True
-        frame = frame.f_back
-    return False
 
 
 class Interrupted(KeyboardInterrupt):
@@ -102,8 +69,8 @@ class InterruptGuard:
     def _handler(self, signum, frame) -> None:
         if self.pending is None:
             self.pending = signum
-        if self._held or in_numba(frame):
-            return  # raised by check() at the next safe point
+        if self._held:
+            return  # raised by check() as the critical section ends
         self.check()
 
     def install(self) -> None:
@@ -157,9 +124,9 @@ def current_guard() -> InterruptGuard | None:
 def guard_interrupts(*signums: int) -> Iterator[InterruptGuard]:
     """Guard `signums` (default SIGINT) for the duration of the block.
 
-    A guarded signal raises :class:`Interrupted` at once, unless numba's own
-    code runs (or the guard is held); such a signal is raised by the next
-    :meth:`InterruptGuard.check`, or as the block ends.  If a guard covering
+    A guarded signal raises :class:`Interrupted` at once, unless the guard is
+    held; such a signal is raised by the next :meth:`InterruptGuard.check`, or
+    as the block ends.  If a guard covering
     `signums` is installed already, it is reused (so that the command line's
     guard, which also covers SIGTERM, stays in charge).
     """

@@ -12,8 +12,7 @@ checks ``jobs=2`` against ``jobs=1`` bit for bit).
 
 Local workers are a pool of our own (:mod:`._pool`) that survives the death of
 a worker: only the file that worker held gets an error row.  In this process,
-Ctrl-C is raised only at safe points, never while a compiled kernel returns
-(:mod:`._interrupts`).
+Ctrl-C and SIGTERM raise :class:`Interrupted` (:mod:`._interrupts`).
 """
 
 from __future__ import annotations
@@ -190,13 +189,12 @@ def _failed(task: Task, reason: str, seconds: float | None = None) -> Outcome:
 def _run_here(
     tasks: Sequence[Task], settings: Settings, on_phase: PhaseCallback | None = None
 ) -> Iterator[Outcome]:
-    """The meshes one after the other in this process, Ctrl-C raised only at safe points.
+    """The meshes one after the other in this process, stopped by Ctrl-C or SIGTERM.
 
-    A Ctrl-C that arrives while a compiled kernel runs would otherwise crash
-    the process (see :mod:`._interrupts`); the guard raises it between meshes
-    and as each phase of a mesh starts instead, and at once elsewhere.  A
-    mesh whose interrupt was swallowed (trimesh's loader catches every
-    exception) is not kept: the interrupt is raised again.
+    The guard (:mod:`._interrupts`) raises :class:`Interrupted` for SIGTERM
+    too.  A mesh whose interrupt was swallowed (trimesh's loader catches
+    every exception) is not kept: the interrupt is raised again, as the next
+    phase of the mesh starts or as it ends.
     """
     with guard_interrupts() as guard:
 
@@ -205,7 +203,6 @@ def _run_here(
                 raise Interrupted(guard.raised)
 
         def phase(file: str, name: str) -> None:
-            guard.check()
             swallowed()
             if on_phase is not None:
                 on_phase(file, name)

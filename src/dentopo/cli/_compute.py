@@ -425,8 +425,8 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     output = None
     if args.output not in (None, STDOUT):
         output = TableOutput(args.output, layout(args.columns), quiet=args.quiet)
-    # Ctrl-C and SIGTERM (a scheduler's time limit) stop the run at a safe point, never inside
-    # a compiled kernel; the rows done are written, and the exit code is 130.
+    # Ctrl-C and SIGTERM (a scheduler's time limit) stop the run, never while a row or the
+    # table is being written; the rows done are written, and the exit code is 130.
     with guard_interrupts(signal.SIGINT, signal.SIGTERM) as guard:
         try:
             code = _run(args, files, settings, per_vertex, scheduler, render, output, guard)

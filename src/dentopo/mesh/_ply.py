@@ -402,14 +402,16 @@ def _read_ascii(body: bytes, elements, first_line: int, wanted: dict, where: str
 
 
 @njit(cache=True)
-def _row_starts(buf, position, rows, is_list, size, item, signed, big):  # pragma: no cover
+def _row_starts(buf, position, rows, is_list, size, item, signed, big, starts):  # pragma: no cover
     """Byte offset of each row (and of the end) of an element with lists of any length.
 
-    Returns ``(starts, status)``: ``status == rows`` when every row is there;
-    ``0 <= status < rows`` when the data ends inside row ``status``; ``-1 - r``
-    when row ``r`` has a negative list count.
+    The offsets go to ``starts`` (``rows + 1`` zeros, from the caller: a
+    returned array would be boxed with a little Python code, where a Ctrl-C
+    that arrived meanwhile would be raised and crash the caller).  Returns a
+    status: ``rows`` when every row is there; ``0 <= status < rows`` when the
+    data ends inside row ``status``; ``-1 - r`` when row ``r`` has a negative
+    list count.
     """
-    starts = np.zeros(rows + 1, dtype=np.int64)
     end = len(buf)
     for r in range(rows):
         starts[r] = position
@@ -419,7 +421,7 @@ def _row_starts(buf, position, rows, is_list, size, item, signed, big):  # pragm
                 continue
             width = size[p]
             if position + width > end:
-                return starts, r
+                return r
             count = np.int64(0)
             for k in range(width):
                 byte = np.int64(buf[position + (k if big else width - 1 - k)])
@@ -427,12 +429,12 @@ def _row_starts(buf, position, rows, is_list, size, item, signed, big):  # pragm
             if signed[p] and width < 8 and count >= (np.int64(1) << (8 * width - 1)):
                 count -= np.int64(1) << (8 * width)
             if count < 0:
-                return starts, -1 - r
+                return -1 - r
             position += width + count * item[p]
         if position > end:
-            return starts, r
+            return r
     starts[rows] = position
-    return starts, rows
+    return rows
 
 
 def _gather(raw: np.ndarray, offsets: np.ndarray, dtype: np.dtype) -> np.ndarray:
@@ -520,7 +522,8 @@ def _binary_lists(body, raw, element, position, big, names, index, truncated):
     size = np.array([(p.count_type if p.is_list else p.type).itemsize for p in element.properties])
     item = np.array([p.type.itemsize for p in element.properties])
     signed = np.array([p.is_list and p.count_type.kind == "i" for p in element.properties])
-    starts, status = _row_starts(raw, position, element.count, is_list, size, item, signed, big)
+    starts = np.zeros(element.count + 1, dtype=np.int64)
+    status = _row_starts(raw, position, element.count, is_list, size, item, signed, big, starts)
     if 0 <= status < element.count:
         raise truncated(index, int(status))
     if status < 0:

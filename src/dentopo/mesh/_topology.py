@@ -32,14 +32,17 @@ def _edge_keys(edges: np.ndarray, n: int) -> np.ndarray:
 
 
 @njit(cache=True)
-def _propagate_flips(start, neighbour, same, m):
+def _propagate_flips(start, neighbour, same, flip):
     """Breadth-first walk over face adjacency; a face flips if it disagrees with its parent.
 
     ``neighbour[start[f]:start[f + 1]]`` are the faces sharing an edge with f,
     ``same`` whether that edge runs the same way in both (one must flip).  Each
-    connected patch keeps the orientation of its lowest-numbered face.
+    connected patch keeps the orientation of its lowest-numbered face.  The
+    answer goes to ``flip`` (m falses, from the caller: a returned array would
+    be boxed with a little Python code, where a Ctrl-C that arrived meanwhile
+    would be raised and crash the caller).
     """
-    flip = np.zeros(m, dtype=np.bool_)
+    m = flip.shape[0]
     visited = np.zeros(m, dtype=np.bool_)
     queue = np.empty(m, dtype=np.int64)
     for root in range(m):
@@ -59,7 +62,6 @@ def _propagate_flips(start, neighbour, same, m):
                     flip[g] = flip[f] ^ same[e]
                     queue[tail] = g
                     tail += 1
-    return flip
 
 
 def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
@@ -89,7 +91,8 @@ def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     source = np.r_[fa, fb]
     by_face = np.argsort(source, kind="stable")
     start = np.searchsorted(source[by_face], np.arange(m + 1))
-    flip = _propagate_flips(start, np.r_[fb, fa][by_face], np.r_[same, same][by_face], m)
+    flip = np.zeros(m, dtype=bool)
+    _propagate_flips(start, np.r_[fb, fa][by_face], np.r_[same, same][by_face], flip)
     fixed = faces.copy()
     fixed[flip] = fixed[flip][:, ::-1]
     return fixed

@@ -110,12 +110,41 @@ def _triangle_sum(tri, lo, hi, q):
     return total
 
 
+def _tree_capacity(n_tri: int, leaf_size: int) -> int:
+    """Nodes a hierarchy over `n_tri` triangles can need.
+
+    Halving leaves at least ``(leaf_size + 1) // 2`` triangles per leaf.
+    """
+    return 4 * (n_tri // max(1, (leaf_size + 1) // 2) + 1) + 1
+
+
+def _tree(tri: np.ndarray, leaf_size: int = LEAF_SIZE) -> tuple:
+    """The hierarchy of ``_build``: ``lo, hi, left, centre, dipole, moment, radius`` per node."""
+    cap = _tree_capacity(len(tri), leaf_size)
+    nodes = (
+        np.empty(cap, np.int64),  # lo
+        np.empty(cap, np.int64),  # hi
+        np.full(cap, -1, np.int64),  # left
+        np.zeros((cap, 3)),  # centre
+        np.zeros((cap, 3)),  # dipole
+        np.zeros((cap, 3, 3)),  # moment
+        np.zeros(cap),  # radius
+    )
+    count = _build(tri, leaf_size, *nodes)
+    return tuple(array[:count] for array in nodes)
+
+
 @njit(cache=True)
-def _build(tri, leaf_size):
+def _build(tri, leaf_size, lo, hi, left, centre, dipole, moment, radius):
     """Binary hierarchy over the (spatially ordered) triangles, halving index ranges.
 
     Per node: the area-weighted centre, the summed area vector (its dipole) and
-    the radius of the sphere about the centre that holds all its vertices.
+    the radius of the sphere about the centre that holds all its vertices.  The
+    nodes go to arrays of the caller (``_tree``), of at least
+    ``_tree_capacity`` entries, ``left`` filled with -1 and the sums with 0;
+    returns the number of nodes.  (No array is returned: numba boxes one with
+    a little Python code, where a Ctrl-C that arrived meanwhile would be raised
+    and crash the caller; see ``dentopo.ariadne._kernel._run_sums``.)
     """
     n_tri = tri.shape[0]
     area_vec = np.empty((n_tri, 3))
@@ -131,15 +160,6 @@ def _build(tri, leaf_size):
         area_vec[t, 1] = 0.5 * (az * bx - ax * bz)
         area_vec[t, 2] = 0.5 * (ax * by - ay * bx)
         area[t] = np.sqrt(area_vec[t, 0] ** 2 + area_vec[t, 1] ** 2 + area_vec[t, 2] ** 2)
-    # halving leaves at least (leaf_size + 1) // 2 triangles per leaf
-    cap = 4 * (n_tri // max(1, (leaf_size + 1) // 2) + 1) + 1
-    lo = np.empty(cap, np.int64)
-    hi = np.empty(cap, np.int64)
-    left = np.full(cap, -1, np.int64)
-    centre = np.zeros((cap, 3))
-    dipole = np.zeros((cap, 3))
-    moment = np.zeros((cap, 3, 3))
-    radius = np.zeros(cap)
     lo[0] = 0
     hi[0] = n_tri
     count = 1
@@ -196,26 +216,36 @@ def _build(tri, leaf_size):
             hi[count + 1] = b
             count += 2
         node += 1
-    return (
-        lo[:count],
-        hi[:count],
-        left[:count],
-        centre[:count],
-        dipole[:count],
-        moment[:count],
-        radius[:count],
-    )
+    return count
+
+
+#: Queries per call of the compiled ``_query`` (a few tenths of a second at most): Python
+#: reacts to Ctrl-C between calls.
+QUERIES_PER_CALL = 32_768
+
+
+def _approximate(tri, tree, queries, ratio, second_order):
+    """Approximate solid angles (4 pi w) at the queries, and each query's work (``_query``)."""
+    n = len(queries)
+    out = np.empty(n)
+    work = np.zeros(n, np.int64)
+    for start in range(0, n, QUERIES_PER_CALL):
+        part = slice(start, min(n, start + QUERIES_PER_CALL))
+        _query(tri, *tree, queries[part], ratio, second_order, out[part], work[part])
+    return out, work
 
 
 @njit(cache=True, parallel=True)
-def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, second_order):
+def _query(
+    tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, second_order, out, work
+):
     """Approximate solid angles (4 pi w) at the queries, and each query's work.
 
     The work is the number of nodes visited plus triangles summed exactly.
+    Both go to arrays of the caller (``out``, ``work``); nothing is returned
+    (see ``_build``).
     """
     n = queries.shape[0]
-    out = np.empty(n)
-    work = np.zeros(n, np.int64)
     n_chunks = min(n, 256)
     for chunk in prange(n_chunks):
         stack = np.empty(256, np.int64)  # one traversal stack per chunk of queries
@@ -257,15 +287,23 @@ def _query(tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, se
                     top += 2
             out[i] = total
             work[i] = visits
-    return out, work
+
+
+def _exact(tri: np.ndarray, queries: np.ndarray) -> np.ndarray:
+    """Exact solid angles (4 pi w) at the queries: the sum over every triangle."""
+    out = np.empty(len(queries))
+    _exact_sums(tri, queries, out)
+    return out
 
 
 @njit(cache=True, parallel=True)
-def _exact(tri, queries):
-    out = np.empty(queries.shape[0])
+def _exact_sums(tri, queries, out):
+    """``out[i]``: the solid angle of all of `tri` at ``queries[i]``.
+
+    Nothing is returned (see ``_build``).
+    """
     for i in prange(queries.shape[0]):
         out[i] = _triangle_sum(tri, 0, tri.shape[0], queries[i])
-    return out
 
 
 @njit(cache=True)
@@ -275,7 +313,8 @@ def _cut_strips(tri, ptr, bounds, out):
     The strips run from the apex (the vertex opposite the shortest edge, at
     ``s = 0``) to that edge (``s = 1``) between the fractions
     ``bounds[ptr[t]:ptr[t + 1]]`` (0 first, 1 last), and keep the triangle's
-    orientation: 1 + 2 (pieces - 1) triangles.
+    orientation: 1 + 2 (pieces - 1) triangles, written to `out` (nothing is
+    returned, see ``_build``).
     """
     k = 0
     for t in range(tri.shape[0]):
@@ -315,7 +354,6 @@ def _cut_strips(tri, ptr, bounds, out):
             out[k + 1, 1] = q1
             out[k + 1, 2] = q0
             k += 2
-    return out
 
 
 def _strip_bounds(longest: np.ndarray, target: float, allowed: int):
@@ -368,8 +406,8 @@ def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
         return tri
     pieces, ptr, bounds = _strip_bounds(longest[long], target, STRIP_BUDGET * len(tri))
     strips = 2 * pieces - 1
-    out = np.empty((int(strips.sum()), 3, 3))
-    cut = _cut_strips(np.ascontiguousarray(tri[long]), ptr, bounds, out)
+    cut = np.empty((int(strips.sum()), 3, 3))
+    _cut_strips(np.ascontiguousarray(tri[long]), ptr, bounds, cut)
     first = np.concatenate([[0], np.cumsum(strips)[:-1]])
     if not overwrite:
         tri = tri.copy()
@@ -446,10 +484,10 @@ def winding_number(
     if len(points) == 0:
         return value
     tri = _ordered_triangles(vertices, faces)
-    tree = _build(tri, LEAF_SIZE)
+    tree = _tree(tri)
     order = spatial_order(points)
-    value[order] = _query(
-        tri, *tree, np.ascontiguousarray(points[order]), far_field_ratio, second_order
+    value[order] = _approximate(
+        tri, tree, np.ascontiguousarray(points[order]), far_field_ratio, second_order
     )[0]
     value /= _FOUR_PI
     budget = _budget(len(points), len(tri))
@@ -466,7 +504,7 @@ def winding_number(
         while start < len(unsure) and spent < budget:
             chosen = unsure[start : start + batch]
             queries = np.ascontiguousarray(points[chosen])
-            refined, work = _query(tri, *tree, queries, ratio, second_order)
+            refined, work = _approximate(tri, tree, queries, ratio, second_order)
             value[chosen] = refined / _FOUR_PI
             spent += int(work.sum())
             start += batch

@@ -13,6 +13,7 @@ import time
 _KILL_ON = os.environ.get("DENTOPO_TEST_KILL_WORKER_ON")
 _PHASES = os.environ.get("DENTOPO_TEST_PHASES")
 _SLOW_WRITE = os.environ.get("DENTOPO_TEST_SLOW_WRITE")
+_KERNEL = os.environ.get("DENTOPO_TEST_KERNEL")
 
 if _KILL_ON:
     import multiprocessing
@@ -54,3 +55,15 @@ if _SLOW_WRITE:
             continue
         if hasattr(_module, "write_table"):
             _module.write_table = _slowed(_module.write_table)
+
+if _KERNEL:
+    import dentopo.ariadne._kernel as _kernel
+
+    _real_euclidean_moments = _kernel.euclidean_moments
+
+    def euclidean_moments(points, bandwidth, cutoff):
+        """Say that the exact kernel starts, then run it."""
+        print(f"dentopo-test: kernel {len(points)} points", file=sys.stderr, flush=True)
+        return _real_euclidean_moments(points, bandwidth, cutoff)
+
+    _kernel.euclidean_moments = euclidean_moments
