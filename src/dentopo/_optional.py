@@ -132,6 +132,8 @@ DATA_FRAMES = Feature("data frames", "pandas", "table")
 DECIMATION = Feature("decimated meshes", "fast_simplification", "study")
 #: The robustness study's and the bandwidth sweep's figures.
 STUDY_FIGURES = Feature("study figures", "matplotlib", "study")
+#: ``.xlsx`` tables.
+EXCEL = Feature("Excel tables", "openpyxl", "excel")
 
 #: Every feature above, for checks and tests.
-FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, DECIMATION, STUDY_FIGURES)
+FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, DECIMATION, STUDY_FIGURES, EXCEL)

@@ -23,7 +23,7 @@ import os
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
-from .._optional import require
+from .._optional import EXCEL, Feature
 from ..ariadne import SCALAR_FIELDS
 from ._atomic import atomic_write
 
@@ -201,8 +201,8 @@ class TableFormat:
         ``read(path) -> (header, rows)``.
     description : str
         One line for the documentation.
-    requires : (module, extra, purpose), optional
-        An optional dependency the format needs (see :meth:`check_available`).
+    requires : Feature, optional
+        The optional dependency the format needs (see :meth:`check_available`).
     """
 
     name: str
@@ -211,13 +211,12 @@ class TableFormat:
     write: Writer
     read: Reader
     description: str = ""
-    requires: tuple[str, str, str] | None = None
+    requires: Feature | None = None
 
     def check_available(self) -> None:
         """Raise :class:`~dentopo._optional.MissingExtraError` if its dependency is missing."""
         if self.requires is not None:
-            module, extra, purpose = self.requires
-            require(module, extra=extra, purpose=purpose)
+            self.requires.require()
 
 
 def _delimited_writer(delimiter: str) -> Writer:
@@ -265,16 +264,8 @@ def _read_json(path):
     return header, raw
 
 
-_OPENPYXL = ("openpyxl", "excel", "Excel tables")
-
-
-def _openpyxl():
-    module, extra, purpose = _OPENPYXL
-    return require(module, extra=extra, purpose=purpose)
-
-
 def _write_xlsx(stream, header, rows, text) -> None:
-    openpyxl = _openpyxl()
+    openpyxl = EXCEL.require()
     from openpyxl.cell.cell import ILLEGAL_CHARACTERS_RE, WriteOnlyCell
 
     workbook = openpyxl.Workbook(write_only=True)
@@ -302,7 +293,7 @@ def _write_xlsx(stream, header, rows, text) -> None:
 
 
 def _read_xlsx(path):
-    openpyxl = _openpyxl()
+    openpyxl = EXCEL.require()
     try:
         workbook = openpyxl.load_workbook(path, read_only=True, data_only=True)
     except Exception as exc:  # zipfile, XML and openpyxl errors: not a workbook we can read
@@ -333,7 +324,7 @@ FORMATS: dict[str, TableFormat] = {
             "tsv", ".tsv", False, _delimited_writer("\t"), _delimited_reader("\t"), "tab-separated"
         ),
         TableFormat("json", ".json", False, _write_json, _read_json, "a list of objects"),
-        TableFormat("xlsx", ".xlsx", True, _write_xlsx, _read_xlsx, "an Excel workbook", _OPENPYXL),
+        TableFormat("xlsx", ".xlsx", True, _write_xlsx, _read_xlsx, "an Excel workbook", EXCEL),
     )
 }
 _BY_NAME = {fmt.name: fmt for fmt in FORMATS.values()}
