@@ -242,17 +242,10 @@ def _check_usage(args) -> str | None:
     if args.jobs < 0:
         return "--jobs must be 0 (all cores) or more"
     if args.output is not None and args.output != STDOUT:
-        try:
+        try:  # a known suffix, and its optional dependency (openpyxl for .xlsx)
             table_format(args.output).check_available()
-        except ValueError as exc:
+        except (ValueError, ImportError) as exc:
             return str(exc)
-        except ImportError as exc:  # the format's optional dependency (openpyxl for .xlsx)
-            return str(exc)
-        if os.path.isdir(args.output):
-            return f"--output {args.output!r} is a directory; give a file ({', '.join(FORMATS)})"
-        directory = os.path.dirname(os.path.abspath(args.output))
-        if not os.path.exists(directory):
-            return f"the output's directory {directory!r} does not exist (create it first)"
         problem = writable_problem(args.output, "--output")  # now, not after the last mesh
         if problem:
             return problem
@@ -267,10 +260,7 @@ def _check_usage(args) -> str | None:
         )
     if args.per_vertex_format and args.per_vertex is None:
         return "--per-vertex-format needs --per-vertex DIR"
-    if args.per_vertex is not None and os.path.exists(args.per_vertex):
-        if not os.path.isdir(args.per_vertex):
-            return f"--per-vertex {args.per_vertex!r} exists and is not a directory"
-    if args.per_vertex is not None:
+    if args.per_vertex is not None:  # a directory, or one that can be made, and written
         problem = directory_problem(args.per_vertex, "--per-vertex")
         if problem:
             return problem

@@ -41,7 +41,10 @@ def writable_problem(path: str, what: str) -> str | None:
     except NotADirectoryError as exc:
         return f"cannot write {what} {path!r}: {exc.filename!r} is not a directory"
     except FileNotFoundError as exc:
-        return f"cannot write {what} {path!r}: the directory {exc.filename!r} does not exist"
+        return (
+            f"cannot write {what} {path!r}: the directory {exc.filename!r} does not exist "
+            "(create it first)"
+        )
     except IsADirectoryError:
         return f"{what} {path!r} is a directory; give a file"
     except OSError as exc:
