@@ -39,18 +39,23 @@ def _format(value) -> str:
     return str(value)
 
 
-def plain_table(records: list[dict]) -> str:
-    """The table as aligned plain text, one line per row (header first)."""
-    cells = [list(TABLE_COLUMNS)] + [[_format(r.get(c)) for c in TABLE_COLUMNS] for r in records]
-    widths = [max(len(row[i]) for row in cells) for i in range(len(TABLE_COLUMNS))]
+def _aligned(cells: list[list[str]], left: list[bool]) -> str:
+    """Rows of text cells (header first) as aligned lines; `left` per column, else right."""
+    widths = [max(len(row[i]) for row in cells) for i in range(len(left))]
     lines = []
     for row in cells:
         line = "  ".join(
-            cell.ljust(w) if name in _LEFT else cell.rjust(w)
-            for name, cell, w in zip(TABLE_COLUMNS, row, widths, strict=True)
+            cell.ljust(w) if is_left else cell.rjust(w)
+            for cell, w, is_left in zip(row, widths, left, strict=True)
         )
         lines.append(line.rstrip() + "\n")
     return "".join(lines)
+
+
+def plain_table(records: list[dict]) -> str:
+    """The table as aligned plain text, one line per row (header first)."""
+    cells = [list(TABLE_COLUMNS)] + [[_format(r.get(c)) for c in TABLE_COLUMNS] for r in records]
+    return _aligned(cells, [name in _LEFT for name in TABLE_COLUMNS])
 
 
 def _common_directory(files: list[str]) -> str:
@@ -145,11 +150,4 @@ def print_layout(records: list[dict], columns) -> None:
     cells = [list(columns.header)] + [
         [columns.text(value) for value in row] for row in columns.rows(records)
     ]
-    kinds = [column.kind for column in columns.columns]
-    widths = [max(len(row[i]) for row in cells) for i in range(len(kinds))]
-    for row in cells:
-        line = "  ".join(
-            cell.ljust(w) if kind == "text" else cell.rjust(w)
-            for cell, w, kind in zip(row, widths, kinds, strict=True)
-        )
-        print(line.rstrip())
+    sys.stdout.write(_aligned(cells, [column.kind == "text" for column in columns.columns]))
