@@ -323,6 +323,16 @@ def _census(elements, lines: _Lines) -> list[int] | None:
     return found if row == len(lines.tokens) else None
 
 
+def _raise_if_counts_differ(elements, lines: _Lines, where: str, declared: str) -> None:
+    """Raise naming declared and found counts if the lines fit the elements in other counts."""
+    census = _census(elements, lines)
+    if census is not None:
+        raise ValueError(
+            f"{where}the header declares {declared}, but the data holds "
+            f"{_describe(elements, census)}"
+        )
+
+
 def _read_ascii(body: bytes, elements, first_line: int, wanted: dict, where: str) -> dict:
     lines = _lines(body, first_line, where)
     n_lines = len(lines.tokens)
@@ -349,12 +359,7 @@ def _read_ascii(body: bytes, elements, first_line: int, wanted: dict, where: str
                     f"{where}truncated: the header declares {declared}; the data ends after "
                     f"{_describe(elements, found)}{why}"
                 )
-            census = _census(elements, lines)
-            if census is not None:
-                raise ValueError(
-                    f"{where}the header declares {declared}, but the data holds "
-                    f"{_describe(elements, census)}"
-                )
+            _raise_if_counts_differ(elements, lines, where, declared)
             raise ValueError(
                 f"{where}line {lines.number[row + failed]} (row {failed + 1} of the "
                 f"{element.noun(element.count)}) holds {lines.tokens[row + failed]} numbers, "
@@ -384,12 +389,7 @@ def _read_ascii(body: bytes, elements, first_line: int, wanted: dict, where: str
             )
         row = stop
     if row < n_lines:
-        census = _census(elements, lines)
-        if census is not None:
-            raise ValueError(
-                f"{where}the header declares {declared}, but the data holds "
-                f"{_describe(elements, census)}"
-            )
+        _raise_if_counts_differ(elements, lines, where, declared)
         raise ValueError(
             f"{where}the header declares {declared}, but {plural(n_lines - row, 'more line')} "
             f"of data {'follows' if n_lines - row == 1 else 'follow'} them (from line "
