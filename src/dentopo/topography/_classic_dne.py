@@ -17,7 +17,8 @@ from numbers import Real
 import numpy as np
 import trimesh
 
-from ..mesh import as_arrays, boundary_edges
+from ..mesh import boundary_edges
+from ._surface import molar_scale, prepare_surface
 
 BOUNDARY_MODES = ("vertex", "leg", "none")
 OUTLIER_MODES = ("combined", "separate")
@@ -25,8 +26,6 @@ OUTLIER_MODES = ("combined", "separate")
 #: Faces whose first-fundamental-form matrix has a 1-norm reciprocal condition
 #: number below this get zero energy density (molaR's rule).
 RCOND_MIN = 1e-5
-#: molaR rescales the mesh so that its size measure is this.
-SIZE_TARGET = 100.0
 
 #: Scalar fields, in the order of output tables.
 CLASSIC_FIELDS = (
@@ -52,7 +51,8 @@ class ClassicDNEResult:
     """Classic DNE and molaR's convex/concave split for one mesh.
 
     Per-face arrays follow the faces of the mesh as given (after dropping
-    unreferenced vertices, which does not reorder faces).
+    faces of zero area and unreferenced vertices, as molaR's cleaning does;
+    neither reorders faces).
 
     Attributes
     ----------
@@ -138,20 +138,6 @@ def _check_real(name: str, value, *, low: float, high: float) -> float:
 def _unit_rows(x: np.ndarray) -> np.ndarray:
     length = np.linalg.norm(x, axis=1, keepdims=True)
     return np.divide(x, length, out=np.zeros_like(x), where=length > 0)
-
-
-def molar_scale(vertices: np.ndarray) -> float:
-    """molaR's size normalisation factor: ``100 / size``.
-
-    ``size`` centres each vertex's coordinate triple on the mean of its own
-    three coordinates (per vertex, not per axis) and takes the root of the sum
-    of squares over all vertices.
-    """
-    centred = vertices - vertices.mean(axis=1, keepdims=True)
-    size = float(np.sqrt(np.sum(centred**2)))
-    if not size > 0:
-        raise ValueError("the mesh has zero size (all vertices lie on the line x = y = z)")
-    return SIZE_TARGET / size
 
 
 def energy_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -259,7 +245,8 @@ def classic_dne(
     1. **Mesh.** Files are read with :func:`dentopo.mesh.load_mesh` (duplicate
        vertices merged, as molaR's reader does; a file holding several meshes
        raises: pass ``load_mesh(path, geometry=NAME)``); arrays and meshes are used as
-       given, after dropping unreferenced vertices.  No other cleaning, no
+       given, after molaR's cleaning (faces of zero area dropped, then
+       vertices no face uses).  No other cleaning, no
        re-orientation of faces.  The caller's mesh is never modified.
     2. **Size normalisation.** All coordinates are multiplied by
        ``100 / size``, where ``size`` is the root sum of squares, over all
@@ -349,12 +336,8 @@ def classic_dne(
     boundary = _check_choice("boundary", boundary, BOUNDARY_MODES)
     outlier_mode = _check_choice("outlier_mode", outlier_mode, OUTLIER_MODES)
 
-    vertices, faces = as_arrays(mesh)
-    used = np.unique(faces)
-    if len(used) < len(vertices):
-        remap = np.full(len(vertices), -1, dtype=np.int64)
-        remap[used] = np.arange(len(used))
-        vertices, faces = vertices[used], remap[faces]
+    surface = prepare_surface(mesh)
+    vertices, faces = surface.vertices, surface.faces
 
     scaled = vertices * molar_scale(vertices)
     energy, area_scaled = face_energy_density(scaled, faces, energy_normals(scaled, faces))
@@ -373,8 +356,7 @@ def classic_dne(
     excluded = at_boundary | outlier
     face_dne = np.where(excluded, 0.0, energy * area_scaled)
 
-    tri = vertices[faces]
-    face_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    face_area = surface.area
     return ClassicDNEResult(
         dne=float(face_dne.sum()),
         convex_dne=float(face_dne[convex].sum()),

@@ -1,0 +1,123 @@
+"""The surface every topography metric measures, prepared as molaR prepares it.
+
+molaR reads a mesh and cleans it (faces of zero area dropped, then vertices no
+face uses); every metric then works on face normals and areas from the faces'
+stored vertex order, and some on coordinates rescaled by molaR's "centroid
+size".  These shared pieces live here so that the metrics agree on them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+
+from ..mesh import as_arrays
+
+#: molaR rescales a mesh so that its size measure is this.
+SIZE_TARGET = 100.0
+
+
+@dataclass(frozen=True)
+class Surface:
+    """A cleaned mesh and its per-face geometry (arrays are private copies).
+
+    Attributes
+    ----------
+    vertices : (n, 3) float64
+    faces : (m, 3) int64
+        Faces of non-zero area, in their stored order and vertex order.
+    cross : (m, 3) float64
+        ``(v2 - v1) x (v3 - v1)`` of each face.
+    area : (m,) float64
+        Face areas (half the norm of ``cross``), mesh units.
+    normals : (m, 3) float64
+        Unit face normals (``cross`` normalised).
+    dropped_faces : int
+        Faces of zero area that were dropped.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    cross: np.ndarray
+    area: np.ndarray
+    normals: np.ndarray
+    dropped_faces: int = 0
+
+    @property
+    def total_area(self) -> float:
+        """The 3D surface area, mesh units."""
+        return float(self.area.sum())
+
+    def trimesh(self) -> trimesh.Trimesh:
+        """The cleaned mesh as a ``trimesh.Trimesh`` (not processed: faces as stored)."""
+        return trimesh.Trimesh(self.vertices, self.faces, process=False)
+
+
+def face_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """``(v2 - v1) x (v3 - v1)`` for every face."""
+    tri = vertices[faces]
+    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+
+
+def drop_unused(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop the vertices no face uses (faces keep their order)."""
+    used = np.unique(faces)
+    if len(used) == len(vertices):
+        return vertices, faces
+    remap = np.full(len(vertices), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return vertices[used], remap[faces]
+
+
+def prepare_surface(mesh) -> Surface:
+    """Read and clean `mesh` as molaR does: zero-area faces dropped, then unused vertices.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
+        Never modified.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For an unusable mesh, or one with no face of non-zero area.
+    """
+    vertices, faces = as_arrays(mesh)
+    cross = face_cross(vertices, faces)
+    norm = np.linalg.norm(cross, axis=1)
+    keep = norm > 0
+    if not keep.any():
+        raise ValueError("the mesh has no face of non-zero area")
+    dropped = int(len(faces) - keep.sum())
+    if dropped:
+        faces, cross, norm = faces[keep], cross[keep], norm[keep]
+    vertices, faces = drop_unused(vertices, faces)
+    return Surface(
+        vertices=vertices,
+        faces=faces,
+        cross=cross,
+        area=0.5 * norm,
+        normals=cross / norm[:, None],
+        dropped_faces=dropped,
+    )
+
+
+def molar_scale(vertices: np.ndarray) -> float:
+    """molaR's size normalisation factor: ``100 / size``.
+
+    ``size`` centres each vertex's coordinate triple on the mean of its own
+    three coordinates (per vertex, not per axis: molaR's quirk) and takes the
+    root of the sum of squares over all vertices.
+
+    Raises
+    ------
+    ValueError
+        If the size is zero (every vertex lies on the line x = y = z).
+    """
+    centred = vertices - vertices.mean(axis=1, keepdims=True)
+    size = float(np.sqrt(np.sum(centred**2)))
+    if not size > 0:
+        raise ValueError("the mesh has zero size (all vertices lie on the line x = y = z)")
+    return SIZE_TARGET / size
