@@ -1,12 +1,28 @@
 """Dental topography metrics in molaR 6.0's definitions: one module per metric.
 
-Today: classic DNE with its convex/concave split (``_classic_dne``), as molaR's
-``DNE`` computes it.
+Today: classic DNE with its convex/concave split (``_classic_dne``, molaR's
+``DNE``); mean surface slope (``_slope``, molaR's ``Slope``); orientation patch
+count and its rotated mean (``_opc``, molaR's ``OPC`` and ``OPCr``).  They
+share molaR's surface preparation (``_surface``).
 
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
 """
 
 from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
+from ._opc import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
+from ._slope import SLOPE_FIELDS, SlopeResult, slope
 
-__all__ = ["CLASSIC_FIELDS", "ClassicDNEResult", "classic_dne"]
+__all__ = [
+    "CLASSIC_FIELDS",
+    "OPC_FIELDS",
+    "SLOPE_FIELDS",
+    "ClassicDNEResult",
+    "OPCRResult",
+    "OPCResult",
+    "SlopeResult",
+    "classic_dne",
+    "opc",
+    "opcr",
+    "slope",
+]

@@ -57,13 +57,20 @@ class Surface:
 
 def face_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """``(v2 - v1) x (v3 - v1)`` for every face."""
-    tri = vertices[faces]
-    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    v1 = vertices[faces[:, 0]]
+    a = vertices[faces[:, 1]] - v1
+    b = vertices[faces[:, 2]] - v1
+    # the components as np.cross computes them, without its overhead
+    cross = np.empty_like(a)
+    cross[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    cross[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    cross[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return cross
 
 
 def drop_unused(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Drop the vertices no face uses (faces keep their order)."""
-    used = np.unique(faces)
+    used = np.flatnonzero(np.bincount(faces.ravel(), minlength=len(vertices)))
     if len(used) == len(vertices):
         return vertices, faces
     remap = np.full(len(vertices), -1, dtype=np.int64)
