@@ -71,3 +71,39 @@ def plane_patch(n: int = 21) -> trimesh.Trimesh:
 @pytest.fixture
 def plane():
     return plane_patch()
+
+
+@pytest.fixture(scope="session")
+def molar_topography():
+    """molaR 6.0's slope, OPC, OPCR, RFI ... on the robustness set, one row per mesh file."""
+    path = REFERENCE / "molaR_6.0_topography.csv"
+    if not path.exists():
+        pytest.skip(f"molaR 6.0 reference values not found at {path}")
+    import csv
+
+    with path.open(newline="") as handle:
+        return {row["file"].removesuffix(".ply"): row for row in csv.DictReader(handle)}
+
+
+def hemisphere(rings: int = 128, segments: int = 256) -> trimesh.Trimesh:
+    """The upper unit hemisphere (z >= 0), open at the equator, normals outward.
+
+    A latitude-longitude grid: the pole is a ring of coincident vertices, so the
+    faces touching it have zero area (molaR's cleaning drops them).
+    """
+    theta = np.linspace(0.0, np.pi / 2, rings + 1)  # from +z
+    phi = np.linspace(0.0, 2 * np.pi, segments + 1)[:-1]
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    vertices = np.column_stack(
+        [(np.sin(t) * np.cos(p)).ravel(), (np.sin(t) * np.sin(p)).ravel(), np.cos(t).ravel()]
+    )
+    idx = np.arange(len(vertices)).reshape(rings + 1, segments)
+    nxt = np.roll(idx, -1, axis=1)
+    a, b, c, d = idx[:-1], nxt[:-1], idx[1:], nxt[1:]
+    faces = np.concatenate(
+        [
+            np.column_stack([a.ravel(), c.ravel(), d.ravel()]),
+            np.column_stack([a.ravel(), d.ravel(), b.ravel()]),
+        ]
+    )
+    return trimesh.Trimesh(vertices, faces, process=False)
