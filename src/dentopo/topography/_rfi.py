@@ -370,10 +370,10 @@ def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False) -> RFIResult:
     (:meth:`AlphaShape.find_alpha`): from a valid `alpha`, down by 0.005 to
     the first invalid alpha; from an invalid one, up to the first valid
     ``alpha + i * 0.01`` and back by 0.01; then up by 0.001 to the first valid
-    alpha.  The arithmetic is molaR's, so the alpha found is the same number.  Validity need not be monotone
-    in alpha, so this is not always the smallest valid alpha.  The search is
-    replayed on the precomputed alpha intervals, testing one alpha per distinct
-    boundary.
+    alpha.  The arithmetic is molaR's, so the alpha found is the same number.
+    Validity need not be monotone in alpha, so this is not always the smallest
+    valid alpha.  The search is replayed on the precomputed alpha intervals,
+    testing one alpha per distinct boundary.
 
     Parameters
     ----------
