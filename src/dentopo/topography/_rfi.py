@@ -17,6 +17,7 @@ shape at every step.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from numbers import Real
 
 import numpy as np
@@ -196,9 +197,13 @@ class AlphaShape:
         self.edges = np.column_stack([i, j])
         self.alpha_min = np.where(midpoint_on, half, np.minimum(r_t, r_o))
         self.alpha_max = np.maximum(r_t, r_o)
-        finite = np.concatenate([self.alpha_min, self.alpha_max[~hull]])
-        self.critical = np.unique(finite)
+        self._hull = hull
         self._valid: dict[int, bool] = {}
+
+    @cached_property
+    def critical(self) -> np.ndarray:
+        """The sorted distinct finite interval ends: where the boundary changes."""
+        return np.unique(np.concatenate([self.alpha_min, self.alpha_max[~self._hull]]))
 
     def boundary(self, alpha: float) -> np.ndarray:
         """(k, 2) int: the boundary segments at `alpha` (point indices)."""
