@@ -262,7 +262,11 @@ def _plotter(
         for y, text in ((0.3, bar_title), (0.1, note)):
             if text:
                 plotter.add_text(
-                    text, position=(0.5, y), viewport=True, font_size=11, color="black"
+                    text,
+                    position=(0.5, y),
+                    viewport=True,
+                    font_size=max(7, min(12, round(window_size[0] / 70))),
+                    color="black",
                 ).GetTextProperty().SetJustificationToCentered()
     elif side:
         plotter.subplot(0, 1)
@@ -402,8 +406,8 @@ def render_slope(
         )
     overhangs = int((slope > SLOPE_LIMIT).sum())
     note = (
-        f"{overhangs} faces steeper than 90\u00b0 (overhangs, up to {slope.max():.0f}\u00b0) "
-        "are drawn in the 90\u00b0 colour"
+        f"overhangs (over 90\u00b0, up to {slope.max():.0f}\u00b0): {overhangs} faces, "
+        "drawn in the 90\u00b0 colour"
         if overhangs
         else ""
     )
@@ -514,7 +518,7 @@ def render_opc(
             view=view if isinstance(view, str) else None,
             bar=swatch_bar(_heading(title, _OPC_TITLE), entries),
         )
-    line_width = max(1.0, round(min(window_size) / 600))
+    line_width = max(1.0, min(window_size) / 400)
 
     def draw(off_screen):
         return _plotter(
