@@ -197,3 +197,115 @@ def lookup_table(n: int = 255) -> np.ndarray:
     centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
     rgb = np.round(255 * diverging_rgb(centres)).astype(np.uint8)
     return np.column_stack([rgb, np.full(n, 255, dtype=np.uint8)])
+
+
+# ---------------------------------------------------------------------------
+# slope: a sequential scale in degrees
+
+#: The largest slope on the slope scale, in degrees; steeper faces (overhangs) get its colour.
+SLOPE_LIMIT = 90.0
+
+#: Viridis (van der Walt and Smith, matplotlib's default map), sampled at 17 evenly
+#: spaced positions in [0, 1]; linear interpolation between them stays within one
+#: unit of 255 of the full table.  Dark blue-purple: flat; yellow: steep.
+_SEQUENTIAL_RGB = np.array(
+    [
+        [0.267, 0.005, 0.329],
+        [0.282, 0.095, 0.417],
+        [0.279, 0.175, 0.483],
+        [0.259, 0.252, 0.525],
+        [0.230, 0.322, 0.546],
+        [0.199, 0.388, 0.555],
+        [0.173, 0.449, 0.558],
+        [0.149, 0.508, 0.557],
+        [0.128, 0.567, 0.551],
+        [0.121, 0.626, 0.533],
+        [0.158, 0.684, 0.502],
+        [0.246, 0.739, 0.452],
+        [0.369, 0.789, 0.383],
+        [0.516, 0.831, 0.294],
+        [0.678, 0.864, 0.190],
+        [0.846, 0.887, 0.100],
+        [0.993, 0.906, 0.144],
+    ]
+)
+_SEQUENTIAL_STOPS = np.linspace(0.0, 1.0, len(_SEQUENTIAL_RGB))
+
+
+def sequential_rgb(t) -> np.ndarray:
+    """Colours of positions on the sequential map (viridis).
+
+    Parameters
+    ----------
+    t : array_like of float
+        Positions; 0 is the dark blue-purple end, 1 the yellow end.  Values
+        beyond [0, 1] are clipped; NaN is drawn at 0.
+
+    Returns
+    -------
+    (..., 3) float
+        RGB in [0, 1].
+    """
+    t = np.clip(np.nan_to_num(np.asarray(t, dtype=np.float64), nan=0.0), 0.0, 1.0)
+    return np.stack(
+        [np.interp(t, _SEQUENTIAL_STOPS, _SEQUENTIAL_RGB[:, c]) for c in range(3)], axis=-1
+    )
+
+
+def slope_rgb(degrees) -> np.ndarray:
+    """(..., 3) uint8 colours of slopes in degrees on the 0 to 90 degree scale.
+
+    0 (facing straight up) is dark blue-purple, 90 (vertical) yellow; steeper
+    slopes (overhangs, over 90) are drawn in the 90 degree colour.
+    """
+    t = np.asarray(degrees, dtype=np.float64) / SLOPE_LIMIT
+    return np.round(255 * sequential_rgb(t)).astype(np.uint8)
+
+
+def sequential_table(n: int = 256) -> np.ndarray:
+    """(n, 4) uint8 RGBA rows of the sequential map, entry ``k`` coloured at its bin's centre."""
+    if n < 2:
+        raise ValueError(f"the table needs at least 2 entries; got {n}")
+    rgb = np.round(255 * sequential_rgb((np.arange(n) + 0.5) / n)).astype(np.uint8)
+    return np.column_stack([rgb, np.full(n, 255, dtype=np.uint8)])
+
+
+# ---------------------------------------------------------------------------
+# OPC: eight aspect bins around a colour wheel
+
+#: Number of aspect (orientation) bins of OPC.
+OPC_BINS = 8
+
+
+def _hsv_to_rgb(hue: np.ndarray, saturation: float, value: float) -> np.ndarray:
+    """RGB in [0, 1] of hues in degrees at one saturation and value (the HSV hexcone)."""
+    h = (np.asarray(hue, dtype=np.float64) % 360.0) / 60.0
+    c = value * saturation
+    x = c * (1.0 - np.abs(h % 2.0 - 1.0))
+    sector = np.floor(h).astype(int) % 6
+    zero = np.zeros_like(h)
+    r = np.choose(sector, [c, x, zero, zero, x, c])
+    g = np.choose(sector, [x, c, c, x, zero, zero])
+    b = np.choose(sector, [zero, zero, x, c, c, x])
+    return np.stack([r, g, b], axis=-1) + (value - c)
+
+
+#: Hue (degrees on the HSV colour wheel) of OPC bins 1 to 8: 45 degrees apart, in the
+#: order of the bins' aspect directions, so that neighbouring directions (bins 8 and 1
+#: included) have neighbouring hues.  Bin 1 is red, then orange, yellow-green, green,
+#: cyan, azure, violet, magenta.
+OPC_HUES = 45.0 * np.arange(OPC_BINS)
+
+#: (8, 3) uint8 colours of OPC bins 1 to 8 (row ``k - 1`` is bin ``k``).
+OPC_COLORS = np.round(255 * _hsv_to_rgb(OPC_HUES, 0.85, 0.92)).astype(np.uint8)
+OPC_COLORS.flags.writeable = False
+
+
+def opc_bin_label(k: int) -> str:
+    """``"bin k: -180° to -135°"``: the aspect range of OPC bin ``k`` (1 to 8), in degrees.
+
+    The aspect of a face is ``atan2(n_y, n_x)`` of its normal, in (-180, 180];
+    bin ``k`` holds aspects in ``(-180 + 45 (k - 1), -180 + 45 k]``.
+    """
+    low = -180 + 45 * (k - 1)
+    return f"bin {k}: {low}\u00b0 to {low + 45}\u00b0"

@@ -27,39 +27,60 @@ def _b64(array: np.ndarray, dtype) -> str:
     return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode("ascii")
 
 
-def _mesh_payload(vertices, faces, rgb, label, caption) -> dict:
+def _mesh_payload(vertices, faces, rgb, label, caption, options=None) -> dict:
+    """The JSON record of one mesh (see :func:`write_html` for the arguments)."""
+    options = options or {}
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
+    rgb = np.asarray(rgb, dtype=np.uint8)
     low, high = vertices.min(axis=0), vertices.max(axis=0)
-    centred = vertices - 0.5 * (low + high)
+    centre = 0.5 * (low + high)
+    centred = vertices - centre
     radius = float(np.linalg.norm(centred, axis=1).max()) or 1.0
     tri = centred[faces]
     face_normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])  # area-weighted
-    normals = np.zeros_like(centred)
-    for corner in range(3):
-        np.add.at(normals, faces[:, corner], face_normal)
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
-    return {
+    if options.get("face_colors"):
+        # flat: three corners of their own per face, sharing its normal and colour
+        length = np.linalg.norm(face_normal, axis=1, keepdims=True)
+        unit = np.divide(face_normal, length, out=np.zeros_like(face_normal), where=length > 0)
+        centred = tri.reshape(-1, 3)
+        normals = np.repeat(unit, 3, axis=0)
+        rgb = np.repeat(rgb, 3, axis=0)
+        faces = np.arange(3 * len(faces)).reshape(-1, 3)
+    else:
+        normals = np.zeros_like(centred)
+        for corner in range(3):
+            np.add.at(normals, faces[:, corner], face_normal)
+        length = np.linalg.norm(normals, axis=1, keepdims=True)
+        normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
+    record = {
         "label": label,
         "caption": caption,
-        "nv": len(vertices),
+        "nv": len(centred),
         "nf": len(faces),
         "positions": _b64(centred / radius, "<f4"),
         "normals": _b64(normals, "<f4"),
         "colors": _b64(rgb, np.uint8),
         "faces": _b64(faces, "<u4"),
     }
+    lines = options.get("lines")
+    if lines is not None and len(lines):
+        lines = (np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3) - centre) / radius
+        record["lines"] = _b64(lines, "<f4")
+        record["lineColor"] = [int(c) for c in options.get("line_rgb", (0, 0, 0))]
+        record["lineWidth"] = float(options.get("line_width", 2.0))
+    return record
 
 
 def write_html(
     path,
     meshes,
     *,
-    scale: ColorScale,
+    scale: ColorScale | None = None,
     title: str,
     legend: str = "blue \u2212 concave, red + convex",
     view: str | None = "iso",
+    bar: str | None = None,
 ) -> None:
     """Write a self-contained interactive page of coloured meshes.
 
@@ -67,44 +88,106 @@ def write_html(
     ----------
     path : str or path-like
         The HTML file to write.
-    meshes : sequence of (vertices, faces, rgb, label, caption)
+    meshes : sequence of (vertices, faces, rgb, label, caption[, options])
         ``vertices`` (n, 3) float, ``faces`` (m, 3) int, ``rgb`` (n, 3) uint8
-        per-vertex colours, and the texts shown above each mesh.
-    scale : ColorScale
-        The colour scale used, for the colour bar.
+        per-vertex colours, and the texts shown above each mesh.  The
+        optional ``options`` dict may hold ``face_colors`` (True: ``rgb`` is
+        (m, 3), one colour per face, drawn flat), ``lines`` ((k, 2, 3) float
+        segments in mesh coordinates, drawn over the mesh with depth),
+        ``line_rgb`` (their colour, 3 ints) and ``line_width`` (pixels).
+    scale : ColorScale, optional
+        The diverging colour scale used, for the colour bar; needed unless
+        `bar` is given.
     title : str
         Name of the coloured quantity.
     legend : str
         What the colours mean, shown by the colour bar.
     view : str, optional
         Initial view preset (default "iso"); None means "iso".
+    bar : str, optional
+        The legend block's HTML (from :func:`sequential_bar` or
+        :func:`swatch_bar`) in place of the diverging colour bar.
     """
     payload = {
         "meshes": [_mesh_payload(*m) for m in meshes],
         "rotation": view_rotation(view).tolist(),
     }
-    stops = ", ".join(
-        f"rgb({r},{g},{b}) {100 * (t + 1) / 2:.1f}%"
-        for t, (r, g, b) in zip(
-            np.linspace(-1, 1, 21),
-            np.round(255 * diverging_rgb(np.linspace(-1, 1, 21))).astype(int),
-            strict=True,
-        )
-    )
-    low, high = scale.limits
+    if bar is None:
+        if scale is None:
+            raise ValueError("write_html needs the colour scale or a legend block (bar=)")
+        bar = _diverging_bar(scale, title, legend)
     data = json.dumps(payload, separators=(",", ":")).replace("</", "<\\/")
     page = (
         _TEMPLATE.replace("%TITLE%", html_escape.escape(title))
-        .replace("%GRADIENT%", stops)
-        .replace("%LOW%", f"{low:.3g}")
-        .replace("%HIGH%", f"{high:.3g}")
-        .replace("%RULE%", html_escape.escape(scale.rule))
-        .replace("%LEGEND%", html_escape.escape(legend))
+        .replace("%BAR%", bar)
         .replace("%SCRIPT%", _SCRIPT)
         .replace("%DATA%", data)
     )
     with open(os.fspath(path), "w", encoding="utf-8") as handle:
         handle.write(page)
+
+
+def _gradient(stops) -> str:
+    return ", ".join(f"rgb({r},{g},{b}) {100 * t:.1f}%" for t, (r, g, b) in stops)
+
+
+def _diverging_bar(scale: ColorScale, title: str, legend: str) -> str:
+    t = np.linspace(-1, 1, 21)
+    rgb = np.round(255 * diverging_rgb(t)).astype(int)
+    low, high = scale.limits
+    return (
+        f'<div id="rule">{html_escape.escape(title)} &nbsp; {html_escape.escape(scale.rule)}'
+        f" &nbsp; {html_escape.escape(legend)}</div>\n"
+        f'<div id="gradient" style="background: linear-gradient(to right, '
+        f'{_gradient(zip((t + 1) / 2, rgb, strict=True))})"></div>\n'
+        f'<div id="ticks"><span>{low:.3g}</span><span>0</span><span>{high:.3g}</span></div>'
+    )
+
+
+def sequential_bar(title: str, ticks, rgb_at, note: str = "") -> str:
+    """A colour bar's HTML for a sequential scale.
+
+    Parameters
+    ----------
+    title : str
+        The text above the bar.
+    ticks : sequence of str
+        Labels spread evenly from the left end to the right end.
+    rgb_at : callable
+        Maps positions in [0, 1] to (..., 3) uint8 colours.
+    note : str
+        A further line under the ticks (e.g. how out-of-range values are drawn).
+    """
+    t = np.linspace(0, 1, 21)
+    rgb = np.asarray(rgb_at(t), dtype=int)
+    spans = "".join(f"<span>{html_escape.escape(str(tick))}</span>" for tick in ticks)
+    text = (
+        f'<div id="rule">{html_escape.escape(title)}</div>\n'
+        f'<div id="gradient" style="background: linear-gradient(to right, '
+        f'{_gradient(zip(t, rgb, strict=True))})"></div>\n'
+        f'<div id="ticks">{spans}</div>'
+    )
+    if note:
+        text += f'\n<div id="note">{html_escape.escape(note)}</div>'
+    return text
+
+
+def swatch_bar(title: str, entries) -> str:
+    """A categorical legend's HTML: a coloured square and a label per entry.
+
+    Parameters
+    ----------
+    title : str
+        The text above the entries.
+    entries : sequence of (str, (r, g, b))
+        Labels and their colours (0 to 255).
+    """
+    items = "".join(
+        f'<span class="entry"><span class="swatch" style="background: rgb({int(r)},{int(g)},'
+        f'{int(b)})"></span>{html_escape.escape(label)}</span>'
+        for label, (r, g, b) in entries
+    )
+    return f'<div id="rule">{html_escape.escape(title)}</div>\n<div id="swatches">{items}</div>'
 
 
 _TEMPLATE = """<!DOCTYPE html>
@@ -124,17 +207,18 @@ body { display: flex; flex-direction: column; }
 .cell canvas { width: 100%; height: 100%; display: block; touch-action: none; cursor: grab; }
 .text { position: absolute; left: 6px; top: 4px; white-space: pre; pointer-events: none; }
 #bar { padding: 6px 15% 10px; }
-#gradient { height: 16px; background: linear-gradient(to right, %GRADIENT%); }
+#gradient { height: 16px; }
 #ticks { display: flex; justify-content: space-between; }
-#rule { text-align: center; }
+#rule, #note { text-align: center; }
+#swatches { display: flex; flex-wrap: wrap; justify-content: center; gap: 4px 16px; }
+.swatch { display: inline-block; width: 14px; height: 14px; margin-right: 5px;
+  vertical-align: -2px; border: 1px solid #444; }
 </style>
 </head>
 <body>
 <div id="panels"></div>
 <div id="bar">
-<div id="rule">%TITLE% &nbsp; %RULE% &nbsp; %LEGEND%</div>
-<div id="gradient"></div>
-<div id="ticks"><span>%LOW%</span><span>0</span><span>%HIGH%</span></div>
+%BAR%
 </div>
 <div id="status" hidden></div>
 <script type="application/json" id="dentopo-data">%DATA%</script>
@@ -197,12 +281,20 @@ _SCRIPT = r"""
     gl.linkProgram(prog);
     if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) return null;
     gl.useProgram(prog);
+    const bound = [];
     function attribute(name, array, size, type, normalized) {
       const loc = gl.getAttribLocation(prog, name), buf = gl.createBuffer();
       gl.bindBuffer(gl.ARRAY_BUFFER, buf);
       gl.bufferData(gl.ARRAY_BUFFER, array, gl.STATIC_DRAW);
-      gl.enableVertexAttribArray(loc);
-      gl.vertexAttribPointer(loc, size, type, normalized, 0, 0);
+      bound.push([loc, buf, size, type, normalized]);
+    }
+    function bind() {
+      for (let i = 0; i < 8; i++) gl.disableVertexAttribArray(i);
+      bound.forEach(function (a) {
+        gl.bindBuffer(gl.ARRAY_BUFFER, a[1]);
+        gl.enableVertexAttribArray(a[0]);
+        gl.vertexAttribPointer(a[0], a[2], a[3], a[4], 0, 0);
+      });
     }
     attribute("p", m.positions, 3, gl.FLOAT, false);
     attribute("n", m.normals, 3, gl.FLOAT, false);
@@ -211,6 +303,7 @@ _SCRIPT = r"""
     gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ibuf);
     gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, m.faces, gl.STATIC_DRAW);
     const ur = gl.getUniformLocation(prog, "r"), us = gl.getUniformLocation(prog, "s");
+    const lines = m.lines ? lineLayer(gl, shader, m) : null;
     gl.enable(gl.DEPTH_TEST);
     return { kind: kind, draw: function () {
       const w = canvas.width, h = canvas.height, k = state.zoom * Math.min(w, h);
@@ -218,16 +311,77 @@ _SCRIPT = r"""
       gl.clearColor(1, 1, 1, 1);
       gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
       const r = state.rot;  // column-major: the transpose of the row list
+      gl.useProgram(prog);
+      bind();
       gl.uniformMatrix3fv(ur, false, [r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1],
         r[0][2], r[1][2], r[2][2]]);
       gl.uniform2f(us, k / w, k / h);
       gl.drawElements(gl.TRIANGLES, m.faces.length, gl.UNSIGNED_INT, 0);
+      if (lines) lines.draw(r, k / w, k / h, w, h);
+    } };
+  }
+
+  // segments as screen-space quads of a fixed width in pixels, depth-tested, drawn
+  // slightly towards the viewer so that lines lying on the surface stay visible
+  function lineLayer(gl, shader, m) {
+    const vs = "attribute vec3 p; attribute vec3 q; attribute float side;" +
+      "uniform mat3 r; uniform vec2 s; uniform vec2 vp; uniform float width;" +
+      "void main() { vec3 a = r * p; vec3 b = r * q; vec2 sa = a.xy * s; vec2 sb = b.xy * s;" +
+      " vec2 d = (sb - sa) * vp; if (length(d) < 1e-6) d = vec2(1.0, 0.0);" +
+      " vec2 n = normalize(vec2(-d.y, d.x)) * side * width / vp;" +
+      " gl_Position = vec4(sa + n, -a.z * 0.5 - 0.002, 1.0); }";
+    const fs = "precision mediump float; uniform vec3 color;" +
+      "void main() { gl_FragColor = vec4(color, 1.0); }";
+    const prog = gl.createProgram();
+    gl.attachShader(prog, shader(gl.VERTEX_SHADER, vs));
+    gl.attachShader(prog, shader(gl.FRAGMENT_SHADER, fs));
+    gl.linkProgram(prog);
+    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) return null;
+    const seg = m.lines, ns = seg.length / 6;
+    const P = new Float32Array(ns * 18), Q = new Float32Array(ns * 18);
+    const S = new Float32Array(ns * 6);
+    // corners: (a, b, +1) (a, b, -1) (b, a, -1) (b, a, +1); triangles 0 1 3 and 0 3 2
+    const ends = [0, 0, 1, 0, 1, 1], sides = [1, -1, 1, 1, 1, -1];
+    for (let i = 0; i < ns; i++) for (let j = 0; j < 6; j++) {
+      const e = ends[j], here = 6 * i + 3 * e, there = 6 * i + 3 * (1 - e), o = 18 * i + 3 * j;
+      for (let c = 0; c < 3; c++) { P[o + c] = seg[here + c]; Q[o + c] = seg[there + c]; }
+      S[6 * i + j] = sides[j];
+    }
+    function buffer(array) {
+      const b = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      gl.bufferData(gl.ARRAY_BUFFER, array, gl.STATIC_DRAW);
+      return b;
+    }
+    const bp = buffer(P), bq = buffer(Q), bs = buffer(S);
+    const lp = gl.getAttribLocation(prog, "p"), lq = gl.getAttribLocation(prog, "q");
+    const ls = gl.getAttribLocation(prog, "side");
+    const u = {};
+    ["r", "s", "vp", "width", "color"].forEach(function (n) {
+      u[n] = gl.getUniformLocation(prog, n);
+    });
+    return { draw: function (r, sx, sy, w, h) {
+      gl.useProgram(prog);
+      for (let i = 0; i < 8; i++) gl.disableVertexAttribArray(i);
+      [[lp, bp, 3], [lq, bq, 3], [ls, bs, 1]].forEach(function (a) {
+        gl.bindBuffer(gl.ARRAY_BUFFER, a[1]);
+        gl.enableVertexAttribArray(a[0]);
+        gl.vertexAttribPointer(a[0], a[2], gl.FLOAT, false, 0, 0);
+      });
+      gl.uniformMatrix3fv(u.r, false, [r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1],
+        r[0][2], r[1][2], r[2][2]]);
+      gl.uniform2f(u.s, sx, sy);
+      gl.uniform2f(u.vp, w, h);
+      gl.uniform1f(u.width, m.lineWidth * (window.devicePixelRatio || 1));
+      gl.uniform3f(u.color, m.lineColor[0] / 255, m.lineColor[1] / 255, m.lineColor[2] / 255);
+      gl.drawArrays(gl.TRIANGLES, 0, ns * 6);
     } };
   }
 
   function canvasView(canvas, m) {  // painter's algorithm, flat shading per face
     const ctx = canvas.getContext("2d");
-    const nf = m.faces.length / 3, order = new Uint32Array(nf), depth = new Float32Array(nf);
+    const nf = m.faces.length / 3, ns = m.lines ? m.lines.length / 6 : 0;
+    const order = new Uint32Array(nf + ns), depth = new Float32Array(nf + ns);
     const sx = new Float32Array(m.nv), sy = new Float32Array(m.nv), sz = new Float32Array(m.nv);
     return { kind: "canvas2d", draw: function () {
       const w = canvas.width, h = canvas.height, k = state.zoom * Math.min(w, h) / 2;
@@ -242,9 +396,27 @@ _SCRIPT = r"""
       for (let t = 0; t < nf; t++) {
         order[t] = t; depth[t] = sz[f[3 * t]] + sz[f[3 * t + 1]] + sz[f[3 * t + 2]];
       }
+      const L = m.lines, lw = ns ? m.lineWidth * (window.devicePixelRatio || 1) : 0;
+      function project(i, row) {
+        return r[row][0] * L[i] + r[row][1] * L[i + 1] + r[row][2] * L[i + 2];
+      }
+      for (let t = 0; t < ns; t++) {  // depth on the faces' scale (a sum of three), a bit nearer
+        order[nf + t] = nf + t;
+        depth[nf + t] = 1.5 * (project(6 * t, 2) + project(6 * t + 3, 2)) + 0.01;
+      }
       order.sort(function (a, b) { return depth[a] - depth[b]; });
       const lx = 0.3 / 1.1180, ly = 0.4 / 1.1180, lz = 1.0 / 1.1180;
-      for (let o = 0; o < nf; o++) {
+      for (let o = 0; o < nf + ns; o++) {
+        if (order[o] >= nf) {
+          const i = 6 * (order[o] - nf);
+          ctx.strokeStyle = "rgb(" + m.lineColor.join(",") + ")";
+          ctx.lineWidth = lw; ctx.lineCap = "round";
+          ctx.beginPath();
+          ctx.moveTo(w / 2 + k * project(i, 0), h / 2 - k * project(i, 1));
+          ctx.lineTo(w / 2 + k * project(i + 3, 0), h / 2 - k * project(i + 3, 1));
+          ctx.stroke(); ctx.lineWidth = 1;
+          continue;
+        }
         const t = order[o], a = f[3 * t], b = f[3 * t + 1], d = f[3 * t + 2];
         const ux = (sx[b] - sx[a]) / k, uy = (sy[a] - sy[b]) / k, uz = sz[b] - sz[a];
         const vx = (sx[d] - sx[a]) / k, vy = (sy[a] - sy[d]) / k, vz = sz[d] - sz[a];
@@ -270,7 +442,9 @@ _SCRIPT = r"""
   data.meshes.forEach(function (raw) {
     const m = { nv: raw.nv, positions: new Float32Array(bytes(raw.positions)),
       normals: new Float32Array(bytes(raw.normals)), colors: new Uint8Array(bytes(raw.colors)),
-      faces: new Uint32Array(bytes(raw.faces)) };
+      faces: new Uint32Array(bytes(raw.faces)),
+      lines: raw.lines ? new Float32Array(bytes(raw.lines)) : null,
+      lineColor: raw.lineColor || [0, 0, 0], lineWidth: raw.lineWidth || 2 };
     const cell = document.createElement("div"), canvas = document.createElement("canvas");
     const text = document.createElement("div");
     cell.className = "cell"; text.className = "text";

@@ -1,0 +1,623 @@
+"""Pictures of molaR's per-face topography: slope, OPC orientation patches, RFI's footprint.
+
+Each function takes the cleaned mesh a result refers to (``result.mesh``) and
+the result's arrays, so that it needs nothing of the metric itself:
+
+* :func:`render_slope` colours each face flat by its slope in degrees on a
+  sequential scale (viridis: dark blue-purple flat, yellow vertical), fixed
+  from 0 to 90 degrees so that specimens compare; overhangs (over 90) are
+  drawn in the 90 degree colour and counted under the colour bar.
+* :func:`render_opc` colours each face by its OPC aspect bin, eight hues
+  evenly around the colour wheel in the bins' order (so that neighbouring
+  directions have neighbouring hues), and draws the borders between patches
+  as dark lines.
+* :func:`render_footprint` looks straight down the z axis (parallel
+  projection) at the plainly shaded mesh and draws the footprint outline over
+  it, just above the mesh's highest point, as a thick bright line.
+
+Each writes a PNG (pyvista, off-screen, the ``viz`` extra) and/or a
+self-contained HTML page (no extra), or opens a window, as
+:func:`~dentopo.figures.render_curvature` does.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import trimesh
+
+from .._optional import PICTURES, require
+from ._colors import (
+    OPC_BINS,
+    OPC_COLORS,
+    SLOPE_LIMIT,
+    opc_bin_label,
+    sequential_rgb,
+    sequential_table,
+    slope_rgb,
+)
+from ._render import (
+    _BACKGROUND,
+    DisplayUnavailableError,
+    _camera,
+    _check_view,
+    _check_window,
+    _need_pictures,
+    _quiet_vtk_warnings,
+    has_display,
+)
+
+#: Colour of the patch borders of OPC pictures.
+BORDER_RGB = (25, 25, 25)
+#: Colour of the footprint outline: a bright red-orange, far from the grey mesh.
+OUTLINE_RGB = (255, 40, 0)
+#: Colour of the mesh under the footprint outline.
+PLAIN_RGB = (205, 205, 205)
+
+_SLOPE_TITLE = "slope (degrees; 0 = facing up, 90 = vertical)"
+_OPC_TITLE = "OPC aspect bins (aspect = atan2(n_y, n_x) of the face normal)"
+_FOOTPRINT_TITLE = "footprint outline (top view, x-y plane)"
+
+
+# ---------------------------------------------------------------------------
+# inputs
+
+
+def _mesh_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
+    """Copies of the mesh's vertices and faces (the caller's mesh is never touched)."""
+    from ..mesh import as_arrays
+
+    return as_arrays(mesh)
+
+
+def _per_face(values, m: int, name: str) -> np.ndarray:
+    """`values` as an (m,) float array, one finite number per face."""
+    try:
+        array = np.array(values, dtype=np.float64)  # a copy
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be an array of numbers, one per face") from exc
+    if array.shape != (m,):
+        raise ValueError(
+            f"{name} must hold one value per face of the mesh, shape ({m},); got {array.shape}"
+        )
+    if not np.isfinite(array).all():
+        raise ValueError(f"{name} holds {int((~np.isfinite(array)).sum())} non-finite values")
+    return array
+
+
+def _per_face_int(values, m: int, name: str) -> np.ndarray:
+    array = _per_face(values, m, name)
+    if not np.array_equal(array, np.round(array)):
+        raise ValueError(f"{name} must hold whole numbers")
+    return array.astype(np.int64)
+
+
+def _check_outputs(screenshot, html, interactive, view, window_size):
+    view = _check_view(view)
+    window_size = _check_window(window_size)
+    if screenshot is None and html is None and not interactive:
+        raise ValueError("nothing to draw to: give screenshot=, html= or interactive=True")
+    _need_pictures(screenshot, interactive)
+    if interactive and not has_display():
+        raise DisplayUnavailableError(
+            "no display is available for an interactive window (DISPLAY and WAYLAND_DISPLAY "
+            "are unset); write a picture with screenshot= (PNG) or html= instead"
+        )
+    return view, window_size
+
+
+def _heading(title: str | None, what: str) -> str:
+    return f"{title}: {what}" if title else what
+
+
+# ---------------------------------------------------------------------------
+# geometry of the lines
+
+
+def patch_borders(vertices, faces, face_label) -> np.ndarray:
+    """Segments along the edges whose two faces have different labels.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float
+    faces : (m, 3) int
+    face_label : (m,) int
+        A label per face (the OPC patch).
+
+    Returns
+    -------
+    (k, 2, 3) float
+        One segment per such edge, lifted off the surface by 0.2% of the
+        mesh's bounding-box diagonal along the mean normal of its two faces,
+        so that it is drawn over the faces rather than inside them.
+    """
+    shape = trimesh.Trimesh(vertices, faces, process=False, validate=False)
+    pairs = shape.face_adjacency
+    if len(pairs) == 0:
+        return np.zeros((0, 2, 3))
+    differ = face_label[pairs[:, 0]] != face_label[pairs[:, 1]]
+    edges = shape.face_adjacency_edges[differ]
+    normals = shape.face_normals[pairs[differ]].sum(axis=1)
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
+    lift = 2e-3 * float(np.linalg.norm(np.ptp(vertices, axis=0)))
+    return vertices[edges] + lift * normals[:, None, :]
+
+
+def _footprint_segments(footprint, vertices) -> np.ndarray:
+    """The (k, 2, 2) outline as (k, 2, 3) segments just above the mesh's highest point."""
+    try:
+        segments = np.array(footprint, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError("footprint must be an array of x-y segments, shape (k, 2, 2)") from exc
+    if segments.ndim != 3 or segments.shape[1:] != (2, 2):
+        raise ValueError(f"footprint must hold x-y segments, shape (k, 2, 2); got {segments.shape}")
+    if len(segments) == 0:
+        raise ValueError("footprint holds no segments")
+    if not np.isfinite(segments).all():
+        raise ValueError("footprint holds non-finite coordinates")
+    top = float(vertices[:, 2].max())
+    lift = 0.01 * float(np.linalg.norm(np.ptp(vertices, axis=0)))
+    z = np.full((*segments.shape[:2], 1), top + lift)
+    return np.concatenate([segments, z], axis=2)
+
+
+# ---------------------------------------------------------------------------
+# pyvista
+
+
+def _plotter(
+    vertices,
+    faces,
+    *,
+    off_screen,
+    window_size,
+    view,
+    heading,
+    cell_rgb=None,
+    cell_values=None,
+    point_rgb=None,
+    lines=None,
+    line_rgb=(0, 0, 0),
+    line_width=2.0,
+    legend="bar",
+    bar_title="",
+    note="",
+    entries=(),
+    parallel=False,
+):
+    """One mesh with optional lines and a legend: a colour bar below or swatches beside."""
+    pv = PICTURES.require()
+
+    side = legend == "swatches"
+    if legend is None:
+        layout = dict(shape=(1, 1))
+    elif side:
+        layout = dict(shape=(1, 2), col_weights=[1.0, 0.5])
+    else:
+        layout = dict(shape=(2, 1), row_weights=[1.0, 0.25])
+    plotter = pv.Plotter(
+        **layout,
+        border=False,
+        window_size=list(window_size),
+        off_screen=off_screen,
+        lighting="none",
+    )
+    plotter.set_background(_BACKGROUND)
+    plotter.subplot(0, 0)
+    plotter.add_light(pv.Light(light_type="headlight"), only_active=True)
+    poly = pv.PolyData.from_regular_faces(vertices, faces)
+    # colour maps: mostly ambient light, so that steep faces keep their colour from above
+    lit = (0.3, 0.7) if point_rgb is not None else (0.6, 0.4)
+    shading = dict(specular=0.0, ambient=lit[0], diffuse=lit[1], show_scalar_bar=False)
+    if cell_values is not None:
+        table = pv.LookupTable()
+        table.values = sequential_table()
+        table.scalar_range = (0.0, SLOPE_LIMIT)
+        poly.cell_data["value"] = cell_values
+        actor = plotter.add_mesh(
+            poly, scalars="value", cmap=table, clim=(0.0, SLOPE_LIMIT), **shading
+        )
+    elif cell_rgb is not None:
+        poly.cell_data["rgb"] = cell_rgb
+        actor = plotter.add_mesh(poly, scalars="rgb", rgb=True, **shading)
+    else:
+        poly.point_data["rgb"] = point_rgb
+        actor = plotter.add_mesh(poly, scalars="rgb", rgb=True, smooth_shading=True, **shading)
+    if lines is not None and len(lines):
+        points = lines.reshape(-1, 3)
+        cells = np.column_stack([np.full(len(lines), 2), np.arange(0, len(points)).reshape(-1, 2)])
+        segments = pv.PolyData(points, lines=cells.ravel())
+        plotter.add_mesh(
+            segments,
+            color=[c / 255 for c in line_rgb],
+            line_width=line_width,
+            lighting=False,
+            show_scalar_bar=False,
+        )
+    if heading:
+        plotter.add_text(heading, position="upper_left", font_size=10, color="black")
+    if parallel:
+        plotter.enable_parallel_projection()
+    position, focal, up = _camera(vertices, view)
+    plotter.camera_position = [position, focal, up]
+    plotter.reset_camera()
+    plotter.camera.zoom(1.25)
+    if legend == "bar":
+        plotter.subplot(1, 0)
+        plotter.add_scalar_bar(
+            title=" ",
+            mapper=actor.mapper,
+            n_labels=7,
+            fmt="%.0f",
+            color="black",
+            position_x=0.1,
+            position_y=0.5,
+            width=0.8,
+            height=0.32,
+            label_font_size=15,
+            vertical=False,
+        )
+        for y, text in ((0.3, bar_title), (0.1, note)):
+            if text:
+                plotter.add_text(
+                    text,
+                    position=(0.5, y),
+                    viewport=True,
+                    font_size=max(7, min(12, round(window_size[0] / 70))),
+                    color="black",
+                ).GetTextProperty().SetJustificationToCentered()
+    elif side:
+        plotter.subplot(0, 1)
+        _swatches(plotter, entries, bar_title, (window_size[0] / 3, window_size[1]))
+    return plotter
+
+
+def _swatches(plotter, entries, title, size) -> None:
+    """A categorical legend in the active subplot: a coloured square and black text per entry.
+
+    `size` is the subplot's (width, height) in pixels.
+    """
+    core = require("vtkmodules.vtkCommonCore", extra=PICTURES.extra, purpose=PICTURES.purpose)
+    data = require("vtkmodules.vtkCommonDataModel", extra=PICTURES.extra, purpose=PICTURES.purpose)
+    rendering = require(
+        "vtkmodules.vtkRenderingCore", extra=PICTURES.extra, purpose=PICTURES.purpose
+    )
+    width, height = size
+    step = min(0.06, 0.7 / max(len(entries), 1))  # of the height, per entry
+    side = 0.6 * step * height  # the square, in pixels
+    font = max(9, round(0.3 * step * height))
+    top = 0.5 + 0.5 * step * len(entries)
+    x0 = 0.04 * width
+    if title:
+        plotter.add_text(
+            title, position=(0.04, top + 0.4 * step), viewport=True, font_size=font, color="black"
+        )
+    points, colours, cells = core.vtkPoints(), core.vtkUnsignedCharArray(), data.vtkCellArray()
+    colours.SetNumberOfComponents(3)
+    for index, (label, rgb) in enumerate(entries):
+        y = (top - (index + 1) * step) * height
+        cells.InsertNextCell(4)
+        for dx, dy in ((0, 0), (1, 0), (1, 1), (0, 1)):
+            cells.InsertCellPoint(points.InsertNextPoint(x0 + dx * side, y + dy * side, 0.0))
+        colours.InsertNextTuple3(*(float(c) for c in rgb))
+        plotter.add_text(
+            label,
+            position=((x0 + 1.6 * side) / width, y / height),
+            viewport=True,
+            font_size=font,
+            color="black",
+        )
+    poly = data.vtkPolyData()
+    poly.SetPoints(points)
+    poly.SetPolys(cells)
+    poly.GetCellData().SetScalars(colours)
+    coordinate = rendering.vtkCoordinate()
+    coordinate.SetCoordinateSystemToViewport()
+    mapper = rendering.vtkPolyDataMapper2D()
+    mapper.SetInputData(poly)
+    mapper.SetTransformCoordinate(coordinate)
+    mapper.SetColorModeToDirectScalars()
+    squares = rendering.vtkActor2D()
+    squares.SetMapper(mapper)
+    plotter.add_actor(squares, reset_camera=False, pickable=False)
+
+
+def _show(draw, *, screenshot, interactive, title) -> None:
+    """Render off-screen to `screenshot` and/or open a window, from ``draw(off_screen)``."""
+    if screenshot is not None:
+        with _quiet_vtk_warnings():
+            plotter = draw(True)
+            try:
+                plotter.screenshot(os.fspath(screenshot))
+            finally:
+                plotter.close()
+    if interactive:
+        draw(False).show(title=title or "dentopo")
+
+
+# ---------------------------------------------------------------------------
+# public
+
+
+def render_slope(
+    mesh,
+    face_slope,
+    *,
+    view="top",
+    window_size: tuple[int, int] = (900, 900),
+    title: str | None = None,
+    screenshot=None,
+    html=None,
+    interactive: bool = False,
+) -> None:
+    """Draw a mesh with each face coloured by its slope.
+
+    Faces are coloured flat (one colour per face, not interpolated) on a
+    sequential scale fixed from 0 degrees (facing straight up, dark
+    blue-purple) to 90 degrees (vertical, yellow), the same for every
+    specimen.  Overhangs (slopes over 90 degrees) are drawn in the 90 degree
+    colour; how many there are is stated under the colour bar.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh or (vertices, faces)
+        The mesh the slopes refer to: the slope result's cleaned ``mesh``.
+        Never modified.
+    face_slope : (m,) array_like of float
+        Slope of each face in degrees, in [0, 180] (the result's
+        ``face_slope``).  Never modified.
+    view : {"top", "iso", "bottom", "front", "back", "left", "right"} or (3, 3)
+        A preset direction or a camera ``(position, focal_point, view_up)``;
+        the default looks down the z axis at the occlusal surface.
+    window_size : (int, int), default (900, 900)
+        Width and height in pixels of the window and of the screenshot.
+    title : str, optional
+        Shown before "slope" at the top left, and as window title.
+    screenshot : str or path-like, optional
+        Write a PNG, rendered off-screen (no display needed).
+    html : str or path-like, optional
+        Write a self-contained interactive HTML page (no network needed).
+    interactive : bool, default False
+        Open a window to rotate and inspect the mesh (blocks until closed).
+
+    Raises
+    ------
+    ValueError
+        If `face_slope` does not hold one finite value per face in [0, 180],
+        or for bad options, or when no output is requested.
+    DisplayUnavailableError
+        If `interactive` is True and there is no display.
+    dentopo._optional.MissingExtraError
+        A screenshot or a window without pyvista (``pip install 'dentopo[viz]'``).
+
+    Examples
+    --------
+    >>> from dentopo.figures import render_slope
+    >>> render_slope(result.mesh, result.face_slope, screenshot="slope.png")  # doctest: +SKIP
+    """
+    view, window_size = _check_outputs(screenshot, html, interactive, view, window_size)
+    vertices, faces = _mesh_arrays(mesh)
+    slope = _per_face(face_slope, len(faces), "face_slope")
+    if slope.min() < 0 or slope.max() > 180:
+        raise ValueError(
+            f"face_slope must lie in [0, 180] degrees; got {slope.min():g} to {slope.max():g}"
+        )
+    overhangs = int((slope > SLOPE_LIMIT).sum())
+    note = (
+        f"overhangs (over 90\u00b0, up to {slope.max():.0f}\u00b0): {overhangs} faces, "
+        "drawn in the 90\u00b0 colour"
+        if overhangs
+        else ""
+    )
+    heading = _heading(title, "slope")
+    if html is not None:
+        from ._html import sequential_bar, write_html
+
+        write_html(
+            html,
+            [(vertices, faces, slope_rgb(slope), title or "", "", {"face_colors": True})],
+            title=heading,
+            view=view if isinstance(view, str) else None,
+            bar=sequential_bar(
+                _heading(title, _SLOPE_TITLE),
+                [f"{d}\u00b0" for d in range(0, 91, 15)],
+                lambda t: np.round(255 * sequential_rgb(t)).astype(np.uint8),
+                note,
+            ),
+        )
+
+    def draw(off_screen):
+        return _plotter(
+            vertices,
+            faces,
+            off_screen=off_screen,
+            window_size=window_size,
+            view=view,
+            heading=heading,
+            cell_values=slope,
+            legend="bar",
+            bar_title=_SLOPE_TITLE,
+            note=note,
+        )
+
+    _show(draw, screenshot=screenshot, interactive=interactive, title=heading)
+
+
+def render_opc(
+    mesh,
+    face_bin,
+    face_patch,
+    *,
+    borders: bool = True,
+    view="top",
+    window_size: tuple[int, int] = (1200, 850),
+    title: str | None = None,
+    screenshot=None,
+    html=None,
+    interactive: bool = False,
+) -> None:
+    """Draw a mesh with each face coloured by its OPC aspect bin, patch borders in dark lines.
+
+    The eight bins (aspect ``atan2(n_y, n_x)`` of the face normal in steps of
+    45 degrees from -180) get eight hues evenly around the colour wheel, in
+    the bins' order, so that neighbouring directions (bins 8 and 1 included)
+    have neighbouring hues: bin 1 red, 2 orange, 3 yellow-green, 4 green,
+    5 cyan, 6 azure, 7 violet, 8 magenta.  A legend names each bin's range.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh or (vertices, faces)
+        The mesh the bins refer to: the OPC result's cleaned ``mesh``.  Never
+        modified.
+    face_bin : (m,) array_like of int
+        Aspect bin of each face, 1 to 8 (the result's ``face_bin``).
+    face_patch : (m,) array_like of int
+        Patch label of each face (the result's ``face_patch``); borders are
+        drawn along the edges whose two faces have different labels.
+    borders : bool, default True
+        Draw the patch borders.
+    view, window_size, title, screenshot, html, interactive
+        As in :func:`render_slope` (default window 1200 x 850 pixels, the
+        legend on the right).
+
+    Raises
+    ------
+    ValueError
+        If `face_bin` or `face_patch` does not hold one whole number per
+        face, or a bin lies outside 1 to 8; for bad options, or when no
+        output is requested.
+    DisplayUnavailableError, dentopo._optional.MissingExtraError
+        As in :func:`render_slope`.
+    """
+    view, window_size = _check_outputs(screenshot, html, interactive, view, window_size)
+    vertices, faces = _mesh_arrays(mesh)
+    bins = _per_face_int(face_bin, len(faces), "face_bin")
+    outside = np.unique(bins[(bins < 1) | (bins > OPC_BINS)])
+    if outside.size:
+        shown = ", ".join(str(b) for b in outside[:5]) + (", ..." if outside.size > 5 else "")
+        raise ValueError(f"face_bin must hold OPC bins 1 to {OPC_BINS}; got {shown}")
+    patches = _per_face_int(face_patch, len(faces), "face_patch")
+    rgb = np.asarray(OPC_COLORS)[bins - 1]
+    lines = patch_borders(vertices, faces, patches) if borders else None
+    heading = _heading(title, "OPC")
+    entries = [(opc_bin_label(k), tuple(int(c) for c in OPC_COLORS[k - 1])) for k in range(1, 9)]
+    if borders:
+        entries.append(("patch border", BORDER_RGB))
+    if html is not None:
+        from ._html import swatch_bar, write_html
+
+        options = {"face_colors": True}
+        if borders:
+            options.update(lines=lines, line_rgb=BORDER_RGB, line_width=1.5)
+        write_html(
+            html,
+            [(vertices, faces, rgb, title or "", "", options)],
+            title=heading,
+            view=view if isinstance(view, str) else None,
+            bar=swatch_bar(_heading(title, _OPC_TITLE), entries),
+        )
+    line_width = max(1.0, min(window_size) / 400)
+
+    def draw(off_screen):
+        return _plotter(
+            vertices,
+            faces,
+            off_screen=off_screen,
+            window_size=window_size,
+            view=view,
+            heading=f"{heading}\naspect bins; dark lines: patch borders" if borders else heading,
+            cell_rgb=rgb,
+            lines=lines,
+            line_rgb=BORDER_RGB,
+            line_width=line_width,
+            legend="swatches",
+            bar_title="aspect bins",
+            entries=entries,
+        )
+
+    _show(draw, screenshot=screenshot, interactive=interactive, title=heading)
+
+
+def render_footprint(
+    mesh,
+    footprint,
+    *,
+    view="top",
+    window_size: tuple[int, int] = (900, 900),
+    title: str | None = None,
+    screenshot=None,
+    html=None,
+    interactive: bool = False,
+) -> None:
+    """Draw the mesh from above with its footprint outline over it.
+
+    The camera looks straight down the z axis with a parallel projection, so
+    that the outline (drawn just above the mesh's highest point) lies over
+    the mesh's x-y projection exactly.  The mesh is shaded plain grey; the
+    outline is a thick red-orange line.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh or (vertices, faces)
+        The mesh: the RFI result's cleaned ``mesh``.  Never modified.
+    footprint : (k, 2, 2) array_like of float
+        The outline as x-y segments in the mesh's units and position (the
+        result's ``footprint``).  Never modified.
+    view, window_size, title, screenshot, html, interactive
+        As in :func:`render_slope`; the default view, "top", is the one in
+        which the outline is the footprint's boundary.
+
+    Raises
+    ------
+    ValueError
+        If `footprint` is not a non-empty finite (k, 2, 2) array; for bad
+        options, or when no output is requested.
+    DisplayUnavailableError, dentopo._optional.MissingExtraError
+        As in :func:`render_slope`.
+    """
+    view, window_size = _check_outputs(screenshot, html, interactive, view, window_size)
+    vertices, faces = _mesh_arrays(mesh)
+    lines = _footprint_segments(footprint, vertices)
+    heading = _heading(title, "footprint")
+    if html is not None:
+        from ._html import swatch_bar, write_html
+
+        grey = np.tile(np.array(PLAIN_RGB, dtype=np.uint8), (len(vertices), 1))
+        write_html(
+            html,
+            [
+                (
+                    vertices,
+                    faces,
+                    grey,
+                    title or "",
+                    "",
+                    {"lines": lines, "line_rgb": OUTLINE_RGB, "line_width": 3.0},
+                )
+            ],
+            title=heading,
+            view=view if isinstance(view, str) else None,
+            bar=swatch_bar(_heading(title, _FOOTPRINT_TITLE), [("outline", OUTLINE_RGB)]),
+        )
+    line_width = max(2.0, round(min(window_size) / 200))
+
+    def draw(off_screen):
+        plotter = _plotter(
+            vertices,
+            faces,
+            off_screen=off_screen,
+            window_size=window_size,
+            view=view,
+            heading=f"{heading}\nred-orange: footprint outline (top view, x-y plane)",
+            point_rgb=np.tile(np.array(PLAIN_RGB, dtype=np.uint8), (len(vertices), 1)),
+            lines=lines,
+            line_rgb=OUTLINE_RGB,
+            line_width=line_width,
+            legend=None,
+            parallel=True,
+        )
+        return plotter
+
+    _show(draw, screenshot=screenshot, interactive=interactive, title=heading)
