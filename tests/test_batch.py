@@ -191,7 +191,7 @@ def test_a_held_guard_keeps_the_signal_for_later():
 def test_an_interrupt_swallowed_by_library_code_stops_the_batch_without_a_row(
     tmp_path, monkeypatch
 ):
-    from dentopo.batch import _runner, make_settings, plan_batch, run_tasks
+    from dentopo.batch import _measure, make_settings, plan_batch, run_tasks
 
     def swallowing_reader(mesh, **options):  # as trimesh's loader does with a Ctrl-C
         try:
@@ -199,7 +199,7 @@ def test_an_interrupt_swallowed_by_library_code_stops_the_batch_without_a_row(
         except BaseException:
             raise ValueError("string is not a file") from None
 
-    monkeypatch.setattr(_runner, "ariaDNE", swallowing_reader)
+    monkeypatch.setattr(_measure, "ariaDNE", swallowing_reader)
     tasks = plan_batch([str(tmp_path / "a.ply"), str(tmp_path / "b.ply")], make_settings())
     got = []
     with pytest.raises(KeyboardInterrupt):

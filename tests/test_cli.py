@@ -387,11 +387,11 @@ def test_subcommands_are_dispatched_on_the_first_argument(tmp_path, monkeypatch,
     assert "./robustness" in capsys.readouterr().out
 
 
-def test_visualisation_not_available_yet(tmp_path, monkeypatch, capsys):
+def test_a_renderer_that_cannot_be_loaded_is_a_usage_error(tmp_path, monkeypatch, capsys):
     mesh = small_sphere(tmp_path / "a.ply")
-    monkeypatch.setitem(sys.modules, "dentopo.figures._render", None)  # import fails
+    monkeypatch.setitem(sys.modules, "dentopo.figures", None)  # import fails
     assert main([str(mesh), "-v"]) == 2
-    assert "visualisation is not available" in capsys.readouterr().err
+    assert "cannot load the renderer" in capsys.readouterr().err
 
 
 class _DisplayUnavailableError(RuntimeError):
@@ -400,7 +400,7 @@ class _DisplayUnavailableError(RuntimeError):
 
 def fake_renderer(monkeypatch, *, display=True):
     calls = []
-    module = types.ModuleType("dentopo.figures._render")
+    module = types.ModuleType("dentopo.figures")
     module.DisplayUnavailableError = _DisplayUnavailableError
 
     def render_curvature(mesh, result=None, **options):
@@ -413,7 +413,7 @@ def fake_renderer(monkeypatch, *, display=True):
 
     module.render_curvature = render_curvature
     module.render_panel = render_panel
-    monkeypatch.setitem(sys.modules, "dentopo.figures._render", module)
+    monkeypatch.setitem(sys.modules, "dentopo.figures", module)
     return calls
 
 

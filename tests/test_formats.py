@@ -194,9 +194,9 @@ def test_signdne_columns_keep_numbers_in_typed_formats(tmp_path, records, suffix
 
 
 def test_unknown_layouts_and_other_tables_are_refused(tmp_path, records):
-    assert set(LAYOUTS) == {"dentopo", "signdne"}
+    assert set(LAYOUTS) == {"dentopo", "signdne", "molar"}
     with pytest.raises(ValueError, match="unknown columns"):
-        write_table(tmp_path / "t.csv", records, columns="molar")
+        write_table(tmp_path / "t.csv", records, columns="morphosource")
     other = tmp_path / "other.tsv"
     other.write_text("a\tb\n1\t2\n")
     with pytest.raises(ValueError, match="not a dentopo results table"):
@@ -248,7 +248,7 @@ def test_signdne_columns_printed_without_output(meshes, capsys):
     [
         (["-o", "-", "--resume"], "not '-'"),
         (["-o", "t.csv", "--resume", "--columns", "signdne"], "resume without --columns"),
-        (["--columns", "molar"], "invalid choice"),
+        (["--columns", "morphosource"], "invalid choice"),
     ],
 )
 def test_output_usage_errors(meshes, tmp_path, monkeypatch, capsys, options, message):

@@ -9,6 +9,9 @@ import trimesh
 from conftest import ROBUSTNESS_SET, hemisphere, shared_mesh
 from dentopo.topography import SLOPE_FIELDS, SlopeResult, slope
 
+#: The reference crowns point to -z, as molaR measured them: that warning is expected here.
+pytestmark = pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning")
+
 
 @pytest.mark.parametrize("name", ROBUSTNESS_SET)
 def test_matches_molar(name, molar_topography):
@@ -69,7 +72,9 @@ def test_invariances(tooth):
     rng = np.random.default_rng(0)
     # translation and uniform scale
     moved = trimesh.Trimesh(tooth.vertices * 37.5 + [3.0, -2.0, 11.0], tooth.faces, process=False)
-    assert slope(moved).slope == pytest.approx(base.slope, rel=1e-12)
+    # the per-face slopes do not change; the mean's weights are molaR's single-precision areas
+    assert np.array_equal(slope(moved).face_slope, base.face_slope)
+    assert slope(moved).slope == pytest.approx(base.slope, rel=1e-7)
     # vertex order (faces remapped) leaves every face's normal bit for bit
     perm = rng.permutation(len(tooth.vertices))
     inverse = np.argsort(perm)

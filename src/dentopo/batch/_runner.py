@@ -21,23 +21,28 @@ import os
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from functools import partial
 
 from .._optional import DASK, DATA_FRAMES, FAST_METHOD, MissingExtraError
-from ..ariadne import ariaDNE, check_bandwidth, check_cutoff, check_distance_type, check_method
+from ..ariadne import check_bandwidth, check_cutoff, check_distance_type, check_method
 from ..formats import (
     COLUMNS,
     DEFAULT_PER_VERTEX_FORMATS,
+    METRIC_KEYS,
     PerVertexOptions,
     per_vertex_names,
     read_table,
+    record_keys,
+    write_per_face,
     write_per_vertex,
 )
 from ..mesh import check_geometry, load_mesh
 from ..sign import check_sign_method
+from ..topography import check_metrics, check_orient, rotation_key
 from ._inputs import find_mesh_files
 from ._interrupts import Interrupted, guard_interrupts
+from ._measure import Measurement, TopographyOptions, measure_mesh
 from ._pool import run_pool
 
 #: ``progress(done, total, record)`` is called after each file.
@@ -50,10 +55,13 @@ _MAX_REASON = 500
 class Settings:
     """What every mesh of a batch is computed with.
 
-    Every field but ``threads`` and ``geometry`` is an ``ariaDNE`` keyword and an
-    output column: a row is only reused by ``--resume`` if all of them match.
-    ``geometry`` is how each file is read (:func:`dentopo.mesh.load_mesh`); it
-    is not a column, so rows are only reused when it is None.
+    ``metrics`` says which metrics a row holds; the ariaDNE fields
+    (``bandwidth`` ... ``method``) and ``topography`` (molaR's options) are
+    output columns of their metrics: a row is only reused by ``--resume`` if
+    it holds every metric asked for, computed with the same settings.
+    ``threads`` and ``geometry`` are how, not what: ``geometry`` is how each
+    file is read (:func:`dentopo.mesh.load_mesh`); it is not a column, so
+    rows are only reused when it is None.
     """
 
     bandwidth: float = 0.08
@@ -63,14 +71,24 @@ class Settings:
     method: str = "auto"
     threads: int | None = None  # numba threads per mesh; None: numba's default
     geometry: str | None = None  # which mesh of a file holding several (load_mesh)
+    metrics: tuple[str, ...] = ("ariadne",)
+    topography: TopographyOptions = field(default_factory=TopographyOptions)
 
     def options(self) -> dict:
         """The ``ariaDNE`` keyword arguments."""
-        return {
-            f.name: getattr(self, f.name)
-            for f in fields(self)
-            if f.name not in ("threads", "geometry")
-        }
+        return {name: getattr(self, name) for name in ARIADNE_OPTIONS}
+
+    def rotations(self) -> tuple[float, ...]:
+        """OPCR's rotations (degrees) if OPCR is computed, else none."""
+        return self.topography.rotations() if "opcr" in self.metrics else ()
+
+    def keys(self) -> tuple[str, ...]:
+        """The keys of this batch's records, in table order."""
+        return record_keys(self.metrics, self.rotations())
+
+
+#: The fields of :class:`Settings` that are ``ariaDNE`` keywords.
+ARIADNE_OPTIONS = ("bandwidth", "cutoff", "distance_type", "sign_method", "method")
 
 
 @dataclass(frozen=True)
@@ -84,6 +102,7 @@ class Task:
     per_vertex_name: str | None = None
     keep_result: bool = False
     per_vertex: PerVertexOptions = field(default_factory=PerVertexOptions)  # formats, colours
+    keys: tuple[str, ...] = COLUMNS  # the record's keys (an error row has them all, empty)
 
 
 @dataclass(frozen=True)
@@ -124,9 +143,11 @@ def error_reason(exc: BaseException) -> str:
     return reason if len(reason) <= _MAX_REASON else reason[: _MAX_REASON - 3] + "..."
 
 
-def error_record(file: str, reason: str, seconds: float | None = None) -> dict:
+def error_record(
+    file: str, reason: str, seconds: float | None = None, keys: Iterable[str] = COLUMNS
+) -> dict:
     """A table row for a file that failed: numbers empty, ``status="error"``."""
-    record = dict.fromkeys(COLUMNS)
+    record = dict.fromkeys(keys)
     record.update(file=file, seconds=seconds, status="error", error=reason)
     return record
 
@@ -143,47 +164,74 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
     if settings.threads is not None:  # per calling thread: safe in threaded workers
         numba.set_num_threads(min(settings.threads, numba.config.NUMBA_NUM_THREADS))
     start = time.perf_counter()
-    result = None
+    measured = None
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
                 phases = None if on_phase is None else partial(on_phase, task.file)
                 mesh = task.path
-                if settings.geometry is not None:
-                    mesh = load_mesh(task.path, geometry=settings.geometry)
-                result = ariaDNE(mesh, progress=phases, **settings.options())
+                if settings.geometry is not None or settings.metrics != ("ariadne",):
+                    mesh = load_mesh(task.path, geometry=settings.geometry)  # read once
+                measured = measure_mesh(
+                    mesh,
+                    settings.metrics,
+                    ariadne_options=settings.options(),
+                    options=settings.topography,
+                    reason=error_reason,
+                    progress=phases,
+                )
+                if settings.metrics == ("ariadne",) and measured.errors:
+                    raise _AriadneError(measured.errors["ariadne"])
                 if task.per_vertex_dir is not None:
-                    options = task.per_vertex
-                    write_per_vertex(
-                        task.per_vertex_dir,
-                        task.per_vertex_name,
-                        result,
-                        formats=options.formats,
-                        limits=options.limits,
-                        percentile=options.percentile,
-                    )
+                    _write_per_mesh(task, measured)
             except Exception as exc:  # one bad file never stops the batch
                 seconds = round(time.perf_counter() - start, 4)
                 if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
                     reason = "unreadable: a broken symbolic link"
                 else:
                     reason = error_reason(exc)
-                record = error_record(task.file, reason, seconds)
-                result = None
+                record = error_record(task.file, reason, seconds, settings.keys())
+                measured = None
             else:
                 seconds = round(time.perf_counter() - start, 4)
-                record = {"file": task.file, **result.to_dict()}
-                record.update(seconds=seconds, status="ok", error=None)
+                record = {"file": task.file, **measured.record}
+                record.update(seconds=seconds, status=measured.status, error=measured.error)
     finally:
         numba.set_num_threads(previous_threads)
     messages = tuple(dict.fromkeys(str(w.message) for w in caught))
-    return Outcome(task.index, record, messages, result if task.keep_result else None)
+    return Outcome(task.index, record, messages, measured if task.keep_result else None)
+
+
+class _AriadneError(ValueError):
+    """ariaDNE, the only metric of the row, failed: the row is an error row, as before."""
+
+
+def _write_per_mesh(task: Task, measured: Measurement) -> None:
+    """The per-vertex files (ariaDNE) and per-face files (slope, OPC) of one mesh."""
+    options = task.per_vertex
+    ariadne = measured.results.get("ariadne")
+    if ariadne is not None:
+        write_per_vertex(
+            task.per_vertex_dir,
+            task.per_vertex_name,
+            ariadne,
+            formats=options.formats,
+            limits=options.limits,
+            percentile=options.percentile,
+        )
+    faces = {
+        metric: measured.results[metric]
+        for metric in ("slope", "opc", "opcr")
+        if metric in measured.results
+    }
+    if faces:
+        write_per_face(task.per_vertex_dir, task.per_vertex_name, faces, formats=options.formats)
 
 
 def _failed(task: Task, reason: str, seconds: float | None = None) -> Outcome:
     """The outcome of a task whose worker died (or whose result could not travel back)."""
-    return Outcome(task.index, error_record(task.file, reason, seconds))
+    return Outcome(task.index, error_record(task.file, reason, seconds, task.keys))
 
 
 def _run_here(
@@ -244,7 +292,8 @@ def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[
                 yield future.result()
             except Exception as exc:  # the task itself never raises: this is the cluster
                 task = futures[future]
-                yield Outcome(task.index, error_record(task.file, error_reason(exc)))
+                reason = error_reason(exc)
+                yield Outcome(task.index, error_record(task.file, reason, keys=task.keys))
     finally:
         client.cancel(list(futures))
         if own_client:
@@ -252,19 +301,35 @@ def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[
 
 
 def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
-    """Files (as absolute paths) with an ``ok`` row computed with these settings.
+    """Files (as absolute paths) with an ``ok`` row holding what `settings` computes.
 
-    With ``method="auto"`` a row computed by either method counts (auto may
-    pick either); otherwise the recorded method must match.  With a
-    ``geometry`` no row counts: the table does not record which mesh was read.
+    The row must hold a value for every metric asked for (a row of more
+    metrics serves a run of fewer), computed with the same settings: those
+    of ariaDNE (with ``method="auto"`` a row computed by either method
+    counts, as auto may pick either; otherwise the recorded method must
+    match) and of the topography metrics.  With a ``geometry`` no row counts:
+    the table does not record which mesh was read.
     """
     done = set()
-    wanted = {**settings.options(), "geometry": settings.geometry}
-    if wanted["method"] == "auto":
-        del wanted["method"]
+    if settings.geometry is not None:
+        return done
+    wanted = dict(settings.topography.settings(settings.metrics))
+    if "ariadne" in settings.metrics:
+        wanted.update(settings.options())
+        if wanted["method"] == "auto":
+            del wanted["method"]
+    values = [
+        key
+        for metric in settings.metrics
+        for key in METRIC_KEYS[metric]
+        if key not in ARIADNE_OPTIONS
+    ]
+    values += [rotation_key(degrees) for degrees in settings.rotations()]
     for record in previous:
-        same = record.get("status") == "ok" and all(
-            record.get(name) == value for name, value in wanted.items()
+        same = (
+            record.get("status") == "ok"
+            and all(record.get(name) == value for name, value in wanted.items())
+            and all(record.get(key) is not None for key in values)
         )
         if same and record.get("file"):
             done.add(os.path.abspath(record["file"]))
@@ -305,6 +370,7 @@ def plan_batch(
             per_vertex_name=name,
             keep_result=keep_results,
             per_vertex=per_vertex,
+            keys=settings.keys(),
         )
         for i, (file, name) in enumerate(zip(files, names, strict=True))
     ]
@@ -360,8 +426,15 @@ def make_settings(
     method: str = "auto",
     threads: int | None = None,
     geometry: str | None = None,
+    metrics: str | Iterable[str] = ("ariadne",),
+    alpha: float = 0.075,
+    find_alpha: bool = False,
+    opcr_steps: int = 8,
+    opcr_step: float = 5.625,
+    min_faces: int = 3,
+    orient: str = "as-is",
 ) -> Settings:
-    """Validated batch settings (the same checks as ``ariaDNE``, made once up front).
+    """Validated batch settings (the same checks as the metrics, made once up front).
 
     Raises
     ------
@@ -382,6 +455,15 @@ def make_settings(
         method=check_method(method),
         threads=threads,
         geometry=check_geometry(geometry),
+        metrics=check_metrics(metrics),
+        topography=TopographyOptions(
+            alpha=alpha,
+            find_alpha=find_alpha,
+            opcr_steps=opcr_steps,
+            opcr_step=opcr_step,
+            min_faces=min_faces,
+            orient=check_orient(orient),
+        ),
     )
 
 
@@ -402,6 +484,13 @@ def compute_batch(
     jobs: int = 1,
     threads: int | None = None,
     geometry: str | None = None,
+    metrics: str | Iterable[str] = ("ariadne",),
+    alpha: float = 0.075,
+    find_alpha: bool = False,
+    opcr_steps: int = 8,
+    opcr_step: float = 5.625,
+    min_faces: int = 3,
+    orient: str = "as-is",
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -410,7 +499,7 @@ def compute_batch(
     per_vertex_percentile: float = 98.0,
     progress: ProgressCallback | None = None,
 ) -> list[dict]:
-    """Compute ariaDNE for many mesh files; one record (a table row) per file.
+    """Compute ariaDNE (and molaR's topography metrics) for many mesh files; one record per file.
 
     Parameters
     ----------
@@ -431,6 +520,21 @@ def compute_batch(
         into one surface (see :func:`dentopo.load_mesh`).  By default such a
         file gets an error row listing its meshes; a file without a mesh of
         that name gets an error row too.  Rows are then not resumed.
+    metrics : str or iterable of str, default ("ariadne",)
+        What each row holds: some of ``"ariadne"``, ``"classic"`` (classic
+        DNE), ``"rfi"``, ``"opcr"``, ``"opc"``, ``"slope"``, or ``"all"``
+        (:data:`dentopo.topography.METRICS`).  A metric that fails on a mesh
+        leaves its cells empty and names its error; the row keeps the other
+        metrics and has ``status="partial"``.
+    alpha, find_alpha : float, bool
+        As for :func:`dentopo.rfi`.
+    opcr_steps, opcr_step, min_faces : int, float, int
+        As for :func:`dentopo.opcr` (``steps``, ``step``, ``min_faces``) and
+        :func:`dentopo.opc`.
+    orient : {"as-is", "auto"}, default "as-is"
+        ``"auto"`` turns a crown that points to -z before slope, OPC, OPCR and
+        RFI (see :func:`dentopo.find_orientation`); ``"as-is"`` measures it
+        as it is, as molaR does, and warns.
     scheduler : str or distributed.Client, optional
         Address of a Dask distributed scheduler (``"tcp://host:8786"``) or a
         client: run on that cluster instead of local processes (``jobs`` is
@@ -458,11 +562,12 @@ def compute_batch(
     Returns
     -------
     list of dict
-        One record per file, sorted by file, with the keys of
+        One record per file, sorted by file.  For ariaDNE alone, the keys of
         :data:`dentopo.COLUMNS`: ``file``, the scalar fields of
         :class:`dentopo.AriaDNEResult`, ``seconds``, ``status`` (``"ok"`` or
-        ``"error"``) and ``error`` (the reason, or None).  Numbers are None
-        in failed rows.
+        ``"error"``) and ``error`` (the reason, or None); other metrics add
+        their keys (:func:`dentopo.formats.record_keys`).  Numbers are None
+        where they could not be computed.
 
     Raises
     ------
@@ -500,6 +605,13 @@ def compute_batch(
         method=method,
         threads=threads,
         geometry=geometry,
+        metrics=metrics,
+        alpha=alpha,
+        find_alpha=find_alpha,
+        opcr_steps=opcr_steps,
+        opcr_step=opcr_step,
+        min_faces=min_faces,
+        orient=orient,
     )
     check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
@@ -542,4 +654,6 @@ def to_dataframe(records: Iterable[dict]):
         An ``ImportError``: pandas is not installed (``pip install 'dentopo[table]'``).
     """
     pd = DATA_FRAMES.require()
-    return pd.DataFrame(list(records), columns=list(COLUMNS))
+    records = list(records)
+    keys = list(dict.fromkeys(key for record in records for key in record)) or list(COLUMNS)
+    return pd.DataFrame(records, columns=keys)

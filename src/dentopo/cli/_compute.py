@@ -51,13 +51,22 @@ from ..formats import (
 )
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
+from ..topography import METRICS, ORIENT_MODES
 from ._output import TableOutput, directory_problem, writable_problem
 from ._progress import PROG, Progress
 from ._progress import say as _say
-from ._table import print_layout, print_table
+from ._table import print_layout, print_table, table_columns
 
 #: Environment variable naming a Dask scheduler, used when --scheduler is not given.
 SCHEDULER_ENV = "DENTOPO_SCHEDULER"
+
+#: ``--color-by`` fields of ariaDNE, and the metrics that have a picture of their own.
+CURVATURE_FIELDS = ("local_curvature", "local_dne")
+METRIC_PICTURES = ("slope", "opc", "rfi")
+
+#: The metrics of ``--columns molar`` when --metrics is not given: molaR_Batch's defaults
+#: (classic DNE, RFI, OPCR, slope), and ariaDNE.
+MOLAR_DEFAULT_METRICS = ("ariadne", "classic", "rfi", "opcr", "slope")
 
 #: ``-o -``: the table goes to stdout (as CSV).
 STDOUT = "-"
@@ -146,6 +155,48 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         "fast from 20,000 vertices)",
     )
     compute.add_argument(
+        "--metrics",
+        action="append",
+        metavar="NAMES",
+        help="what each row holds, repeatable or comma-separated: "
+        f"{', '.join(METRICS)}, or all (default ariadne; with --columns molar, molaR_Batch's "
+        "classic,rfi,opcr,slope and ariadne)",
+    )
+    topo = parser.add_argument_group("topography (molaR 6.0's definitions)")
+    topo.add_argument(
+        "--alpha", type=float, default=0.075, help="RFI's alpha (default 0.075, molaR's)"
+    )
+    topo.add_argument(
+        "--find-alpha",
+        action="store_true",
+        help="RFI: find molaR's smallest valid alpha, starting from --alpha (molaR's findAlpha)",
+    )
+    topo.add_argument(
+        "--opcr-steps", type=int, default=8, metavar="N", help="OPCR's rotations (default 8)"
+    )
+    topo.add_argument(
+        "--opcr-step",
+        type=float,
+        default=5.625,
+        metavar="DEGREES",
+        help="OPCR's rotation step (default 5.625)",
+    )
+    topo.add_argument(
+        "--min-faces",
+        type=int,
+        default=3,
+        metavar="N",
+        help="OPC: patches of fewer faces are not counted (default 3)",
+    )
+    topo.add_argument(
+        "--orient",
+        type=str.lower,
+        choices=ORIENT_MODES,
+        default="as-is",
+        help="as-is (default, molaR's: measure the crown as it lies, warn if it points to -z) "
+        "or auto (turn a crown pointing to -z before slope, OPC, OPCR and RFI)",
+    )
+    compute.add_argument(
         "--geometry",
         metavar="NAME",
         help="in files holding several meshes (GLB, glTF, 3MF, OBJ objects), measure the one "
@@ -176,8 +227,9 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         type=str.lower,
         choices=tuple(LAYOUTS),
         default="dentopo",
-        help="the table's columns: dentopo (default, every column) or signdne (the published "
-        "signDNE CLI's File, DNE, positive_DNE, ...; failed files left out)",
+        help="the table's columns: dentopo (default, every column), signdne (the published "
+        "signDNE CLI's File, DNE, positive_DNE, ...; failed files left out) or molar "
+        "(molaR_Batch's File, DNE, ..., Slope, then ariaDNE's, status and error)",
     )
     out.add_argument(
         "--resume",
@@ -213,9 +265,11 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     )
     view.add_argument(
         "--color-by",
-        choices=("local_curvature", "local_dne"),
+        choices=(*CURVATURE_FIELDS, *METRIC_PICTURES),
         default="local_curvature",
-        help="field to colour by (default local_curvature)",
+        help="what to draw: local_curvature (default) or local_dne (ariaDNE), slope (per face), "
+        "opc (the patches) or rfi (the footprint outline over the top view); the metric must "
+        "be among --metrics",
     )
     view.add_argument("--view", default="iso", help="camera direction (default iso)")
     view.add_argument(
@@ -231,6 +285,13 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help="colour limits at this percentile of |value| (default 98)",
     )
     return parser
+
+
+def _metrics(args) -> str:
+    """The metrics asked for (``--metrics``, repeatable), or the default of the layout."""
+    if args.metrics:
+        return ",".join(args.metrics)
+    return ",".join(MOLAR_DEFAULT_METRICS) if args.columns == "molar" else "ariadne"
 
 
 def _rendering_requested(args) -> bool:
@@ -253,7 +314,7 @@ def _check_usage(args) -> str | None:
         return "--resume needs --output (the table to resume)"
     if args.resume and args.output == STDOUT:
         return "--resume needs an --output file to resume, not '-' (stdout)"
-    if args.resume and not layout(args.columns).failed_rows:
+    if args.resume and not layout(args.columns).resumable:
         return (
             f"--resume matches rows by their settings columns (bandwidth, cutoff, ...), which "
             f"--columns {args.columns} does not write; resume without --columns {args.columns}"
@@ -290,22 +351,26 @@ def _missing_extra(args, settings, scheduler) -> str | None:
 
 
 def _load_renderer():
-    """The rendering module, or None with a message when it is unavailable."""
+    """The pictures package (pyvista is imported only when a picture is drawn), or None."""
     try:
-        return importlib.import_module("dentopo.figures._render")
+        return importlib.import_module("dentopo.figures")
     except ImportError as exc:
-        if exc.name == "dentopo.figures._render":
-            _say("visualisation is not available yet in this version of dentopo")
-        else:
-            _say(f"cannot load the renderer: {exc}")
+        _say(f"cannot load the renderer: {exc}")
         return None
 
 
 def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int:
     """Draw what was asked for; an exit code (0, 1 display unavailable, 2 bad option)."""
-    ok = [(files[i], o.result) for i, o in sorted(outcomes.items()) if o.result is not None]
+    drawn = "ariadne" if args.color_by in CURVATURE_FIELDS else args.color_by
+    ok = [
+        (files[i], o.result.results[drawn])
+        for i, o in sorted(outcomes.items())
+        if o.result is not None and drawn in o.result.results
+    ]
     if not ok:
-        _say("nothing to draw: no mesh was computed")
+        _say(
+            "nothing to draw: no mesh was computed" + ("" if drawn == "ariadne" else f" ({drawn})")
+        )
         return 1
     options = {
         "field": args.color_by,
@@ -327,16 +392,17 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
             )
         if args.show or args.screenshot or args.html:
             file, result = ok[0]
-            render.render_curvature(
-                result.mesh,
-                result,
-                title=os.path.basename(file),
-                screenshot=args.screenshot,
-                html=args.html,
-                interactive=args.show,
-                **options,
+            single = {
+                "title": os.path.basename(file),
+                "screenshot": args.screenshot,
+                "html": args.html,
+                "interactive": args.show,
                 **size,
-            )
+            }
+            if drawn == "ariadne":
+                render.render_curvature(result.mesh, result, **options, **single)
+            else:
+                _render_metric(render, drawn, result, args, single)
     except render.DisplayUnavailableError as exc:
         _say(f"cannot draw: {exc}")
         return 1
@@ -347,6 +413,18 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
         _say(f"cannot draw: {exc}")
         return 2
     return 0
+
+
+def _render_metric(render, metric: str, result, args, options: dict) -> None:
+    """One topography metric's picture: slope per face, OPC patches, or the RFI footprint."""
+    if args.view != "iso":  # the default camera of these pictures is the occlusal view
+        options["view"] = args.view
+    if metric == "slope":
+        render.render_slope(result.mesh, result.face_slope, **options)
+    elif metric == "opc":
+        render.render_opc(result.mesh, result.face_bin, result.face_patch, **options)
+    else:
+        render.render_footprint(result.mesh, result.footprint, **options)
 
 
 def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
@@ -368,9 +446,32 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             sign_method=args.sign_method,
             method=args.method,
             geometry=args.geometry,
+            metrics=_metrics(args),
+            alpha=args.alpha,
+            find_alpha=args.find_alpha,
+            opcr_steps=args.opcr_steps,
+            opcr_step=args.opcr_step,
+            min_faces=args.min_faces,
+            orient=args.orient,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
+        return 2
+    if args.color_by in METRIC_PICTURES and args.color_by not in settings.metrics:
+        _say(
+            f"--color-by {args.color_by} draws a metric that is not computed: add --metrics "
+            f"{args.color_by}"
+        )
+        return 2
+    if (
+        args.color_by in CURVATURE_FIELDS
+        and "ariadne" not in settings.metrics
+        and (_rendering_requested(args))
+    ):
+        _say(
+            f"--color-by {args.color_by} (the default) draws ariaDNE, which is not among "
+            "--metrics: add ariadne, or choose --color-by slope, opc or rfi"
+        )
         return 2
     try:  # also checks --limits and --percentile before any work
         per_vertex = PerVertexOptions(
@@ -414,7 +515,8 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
 
     output = None
     if args.output not in (None, STDOUT):
-        output = TableOutput(args.output, layout(args.columns), quiet=args.quiet)
+        columns = layout(args.columns, settings.metrics, settings.rotations())
+        output = TableOutput(args.output, columns, quiet=args.quiet)
     # Ctrl-C and SIGTERM (a scheduler's time limit) stop the run, never while a row or the
     # table is being written; the rows done are written, and the exit code is 130.
     with guard_interrupts(signal.SIGINT, signal.SIGTERM) as guard:
@@ -528,7 +630,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
             progress.close()
 
     with guard.held():  # the table is written whole, even if Ctrl-C comes now
-        code = _write(args, output, files, tasks, previous, outcomes, interrupted, unrecorded)
+        code = _write(
+            args, settings, output, files, tasks, previous, outcomes, interrupted, unrecorded
+        )
     if interrupted is None and guard.pending is not None:  # came while writing: rows are safe
         interrupted = Interrupted(guard.pending)
         guard.pending = None
@@ -544,7 +648,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
         return INTERRUPTED
 
 
-def _write(args, output, files, tasks, previous, outcomes, interrupted, unrecorded) -> int:
+def _write(
+    args, settings, output, files, tasks, previous, outcomes, interrupted, unrecorded
+) -> int:
     """Write the table (or print it); the exit code so far (0, or 1 if a file failed)."""
     new = [outcomes[i].record for i in sorted(outcomes)]
     if interrupted is not None:
@@ -566,9 +672,10 @@ def _write(args, output, files, tasks, previous, outcomes, interrupted, unrecord
     records = merge_records(previous, new)
     mine = {os.path.abspath(f) for f in files}
     failed = sum(r["status"] != "ok" for r in records if os.path.abspath(r["file"]) in mine)
+    # "failed" counts partial rows too: a metric is missing from them
     code = 1 if failed or unrecorded else 0
 
-    columns = layout(args.columns)
+    columns = layout(args.columns, settings.metrics, settings.rotations())
     if failed and not columns.failed_rows:
         _say(f"{failed} failed file(s) left out of the table (--columns {columns.name})")
     computed = any(r["status"] == "ok" for r in new)
@@ -598,5 +705,5 @@ def _write(args, output, files, tasks, previous, outcomes, interrupted, unrecord
     elif columns.name != "dentopo":
         print_layout(records, columns)
     else:
-        print_table(records)
+        print_table(records, columns=table_columns(settings.metrics))
     return code

@@ -101,6 +101,7 @@ class Progress:
         self.quiet = quiet
         self.done = 0
         self.mesh_start = time.perf_counter()
+        self._phase_file: str | None = None
         self._console = console
         if console is None and is_terminal(sys.stderr):
             from rich.console import Console
@@ -138,8 +139,8 @@ class Progress:
         self.done += 1
         seconds = record["seconds"]
         timing = "" if seconds is None else f" ({seconds:.2f} s)"
-        if record["status"] != "ok":
-            self.message(f"{record['file']}: error: {record['error']}", style="red")
+        if record["status"] != "ok":  # "error", or "partial": some metric failed
+            self.message(f"{record['file']}: {record['status']}: {record['error']}", style="red")
         if self._bar is not None:
             current = f"{os.path.basename(record['file'])}: {record['status']}{timing}"
             self._bar.update(self._task, completed=self.done, current=current)
@@ -149,7 +150,8 @@ class Progress:
     def phase(self, file: str, name: str) -> None:
         """A phase of one mesh starts: shown on the bar, or as a line once a mesh is slow."""
         now = time.perf_counter()
-        if name == "prepare":
+        if file != self._phase_file:  # the first phase of a mesh
+            self._phase_file = file
             self.mesh_start = now
         elapsed = now - self.mesh_start
         if self._bar is not None:

@@ -27,8 +27,32 @@ TABLE_COLUMNS = (
     "error",
 )
 
+#: The summary columns of each metric (``opcr`` and the rest of the metrics' values are in
+#: the --output table).
+METRIC_SUMMARY = {
+    "ariadne": ("dne", "positive_dne", "negative_dne", "surface_area", "vertices", "faces"),
+    "classic": ("classic_dne",),
+    "rfi": ("rfi", "alpha"),
+    "opcr": ("opcr",),
+    "opc": ("opc",),
+    "slope": ("slope",),
+}
+
+
+def table_columns(metrics=("ariadne",)) -> tuple[str, ...]:
+    """The columns of the summary printed for `metrics`."""
+    if tuple(metrics) == ("ariadne",):
+        return TABLE_COLUMNS
+    columns = ["file"]
+    for metric in metrics:
+        columns += METRIC_SUMMARY[metric]
+    if any(m in metrics for m in ("rfi", "opcr", "opc", "slope")):
+        columns.append("orientation")
+    return (*columns, "seconds", "status", "error")
+
+
 #: Columns aligned to the left (the others hold numbers and are aligned right).
-_LEFT = ("file", "status", "error")
+_LEFT = ("file", "status", "error", "orientation")
 
 
 def _format(value) -> str:
@@ -52,10 +76,10 @@ def _aligned(cells: list[list[str]], left: list[bool]) -> str:
     return "".join(lines)
 
 
-def plain_table(records: list[dict]) -> str:
+def plain_table(records: list[dict], columns: tuple[str, ...] = TABLE_COLUMNS) -> str:
     """The table as aligned plain text, one line per row (header first)."""
-    cells = [list(TABLE_COLUMNS)] + [[_format(r.get(c)) for c in TABLE_COLUMNS] for r in records]
-    return _aligned(cells, [name in _LEFT for name in TABLE_COLUMNS])
+    cells = [list(columns)] + [[_format(r.get(c)) for c in columns] for r in records]
+    return _aligned(cells, [name in _LEFT for name in columns])
 
 
 def _common_directory(files: list[str]) -> str:
@@ -68,7 +92,7 @@ def _common_directory(files: list[str]) -> str:
     return "" if common == os.path.dirname(common) else common
 
 
-def rich_table(records: list[dict]):
+def rich_table(records: list[dict], shown: tuple[str, ...] = TABLE_COLUMNS):
     """The table as a :class:`rich.table.Table`, for people at a terminal.
 
     Files are shown relative to the directory that holds them all, named in
@@ -81,7 +105,7 @@ def rich_table(records: list[dict]):
 
     files = [str(r.get("file") or "") for r in records]
     common = _common_directory(files)
-    columns = [c for c in TABLE_COLUMNS if c != "error" or any(r.get("error") for r in records)]
+    columns = [c for c in shown if c != "error" or any(r.get("error") for r in records)]
     table = Table(
         box=box.SIMPLE_HEAVY,
         show_edge=False,
@@ -113,7 +137,9 @@ def rich_table(records: list[dict]):
     return table
 
 
-def print_table(records: list[dict], *, file=None, console=None) -> None:
+def print_table(
+    records: list[dict], *, file=None, console=None, columns: tuple[str, ...] = TABLE_COLUMNS
+) -> None:
     """Print the table of `records` on `file` (default stdout).
 
     A rich table when `console` is given (drawn on it) or `file` is a
@@ -127,13 +153,13 @@ def print_table(records: list[dict], *, file=None, console=None) -> None:
 
         console = Console(file=stream)
     if console is None:
-        stream.write(plain_table(records))
+        stream.write(plain_table(records, columns))
         stream.flush()
         return
     from rich.console import Console
     from rich.measure import Measurement
 
-    table = rich_table(records)
+    table = rich_table(records, columns)
     needed = Measurement.get(console, console.options.update_width(1_000_000), table).minimum
     if needed > console.width:
         console = Console(

@@ -6,9 +6,11 @@
 any work), ``_tables``
 (the result table's column layouts and file formats, one registry each:
 :data:`LAYOUTS`, :data:`FORMATS`), ``_per_vertex`` (each mesh's cleaned
-vertices with their values, as PLY, VTP, NPZ or CSV, and reading them back).
+vertices with their values, as PLY, VTP, NPZ or CSV, and reading them back),
+``_per_face`` (the face-wise slope and OPC values, in the same formats).
 
 May import: :mod:`dentopo.ariadne` (the result's field names),
+:mod:`dentopo.topography` (the metrics' names and keys),
 :mod:`dentopo.figures` (the colour scale of per-vertex colours).  Nothing from
 batch, study or cli.
 """
@@ -16,6 +18,7 @@ batch, study or cli.
 from ._atomic import atomic_write
 from ._journal import JOURNAL_SUFFIX, Journal, journal_path, read_journal
 from ._lock import OutputLock, check_writable, lock_path
+from ._per_face import FACES_SUFFIX, per_face_arrays, write_per_face
 from ._per_vertex import (
     DEFAULT_PER_VERTEX_FORMATS,
     OUTPUT_SUFFIX,
@@ -31,12 +34,15 @@ from ._tables import (
     COLUMNS,
     FORMATS,
     LAYOUTS,
+    METRIC_KEYS,
+    SETTING_KEYS,
     Column,
     Layout,
     TableFormat,
     layout,
     output_format,
     read_table,
+    record_keys,
     table_format,
     write_table,
 )
@@ -44,11 +50,14 @@ from ._tables import (
 __all__ = [
     "COLUMNS",
     "DEFAULT_PER_VERTEX_FORMATS",
+    "FACES_SUFFIX",
     "FORMATS",
     "JOURNAL_SUFFIX",
     "LAYOUTS",
+    "METRIC_KEYS",
     "OUTPUT_SUFFIX",
     "PER_VERTEX_FORMATS",
+    "SETTING_KEYS",
     "Column",
     "Journal",
     "Layout",
@@ -61,13 +70,16 @@ __all__ = [
     "layout",
     "lock_path",
     "output_format",
+    "per_face_arrays",
     "per_vertex_arrays",
     "per_vertex_formats",
     "per_vertex_names",
     "read_journal",
     "read_per_vertex",
     "read_table",
+    "record_keys",
     "table_format",
+    "write_per_face",
     "write_per_vertex",
     "write_table",
 ]

@@ -20,18 +20,84 @@ import csv
 import json
 import math
 import os
+import re
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 from .._optional import EXCEL, Feature
 from ..ariadne import SCALAR_FIELDS
+from ..topography import (
+    BIN_KEYS,
+    CLASSIC_KEYS,
+    METRICS,
+    ORIENTED,
+    check_metrics,
+    rotation_key,
+)
 from ._atomic import atomic_write
 
-#: Columns of a results table, in order, with the library's names.
+#: Columns of a results table of ariaDNE (the default metric), in order, with the library's names.
 COLUMNS = ("file", *SCALAR_FIELDS, "seconds", "status", "error")
 
-_INTEGER_COLUMNS = frozenset({"vertices", "faces"})
-_TEXT_COLUMNS = frozenset({"file", "distance_type", "sign_method", "method", "status", "error"})
+#: The record keys each metric fills, in table order (OPCR also fills one key per rotation,
+#: :func:`~dentopo.topography.rotation_key`, right after ``opcr``).
+METRIC_KEYS = {
+    "ariadne": SCALAR_FIELDS,
+    "classic": tuple(CLASSIC_KEYS.values()),
+    "rfi": ("rfi", "area_3d", "area_2d", "alpha"),
+    "opcr": ("opcr",),
+    "opc": ("opc", *BIN_KEYS),
+    "slope": ("slope",),
+}
+#: Settings columns of the topography metrics (ariaDNE's are among its own keys).
+SETTING_KEYS = {
+    "rfi": ("rfi_alpha", "find_alpha"),
+    "opcr": ("opcr_steps", "opcr_step", "min_faces"),
+    "opc": ("min_faces",),
+}
+#: Columns of the metrics that assume the crown points to +z: what was found and done, and
+#: the ``orient`` setting.
+ORIENTATION_KEYS = ("orientation", "orient")
+#: Columns that end every row.
+END_KEYS = ("seconds", "status", "error")
+
+_INTEGER_COLUMNS = frozenset({"vertices", "faces", "opc", *BIN_KEYS, "opcr_steps", "min_faces"})
+_TEXT_COLUMNS = frozenset(
+    {"file", "distance_type", "sign_method", "method", "status", "error", "orientation", "orient"}
+)
+_BOOL_COLUMNS = frozenset({"find_alpha"})
+_ROTATION = re.compile(r"opc_(-?[0-9.]+(?:e[-+]?[0-9]+)?)$")
+
+
+def record_keys(metrics=("ariadne",), rotations: Sequence[float] = ()) -> tuple[str, ...]:
+    """A record's keys for `metrics` (see :data:`METRIC_KEYS`), `rotations` of OPCR, in order.
+
+    ``file``, each metric's values, the orientation columns (if a metric
+    needs it), the settings of the topography metrics, then ``seconds``,
+    ``status`` and ``error``.
+    """
+    metrics = check_metrics(metrics)
+    keys = ["file"]
+    for metric in metrics:
+        keys += METRIC_KEYS[metric]
+        if metric == "opcr":
+            keys += [rotation_key(degrees) for degrees in rotations]
+    if ORIENTED.intersection(metrics):
+        keys.append("orientation")
+    for metric in metrics:
+        keys += SETTING_KEYS.get(metric, ())
+    if ORIENTED.intersection(metrics):
+        keys.append("orient")
+    keys += END_KEYS
+    return tuple(dict.fromkeys(keys))
+
+
+_ALL_KEYS = frozenset(record_keys(METRICS))
+
+
+def known_key(name: str) -> bool:
+    """Whether `name` is a record key of some metric (or a rotation's OPC)."""
+    return name in _ALL_KEYS or _ROTATION.match(name) is not None
 
 
 @dataclass(frozen=True)
@@ -45,18 +111,29 @@ class Column:
     key : str
         The record key (one of :data:`COLUMNS`) whose value it holds.
     kind : str
-        ``"text"``, ``"int"`` or ``"float"``: how a cell reads back.
+        ``"text"``, ``"int"``, ``"float"`` or ``"bool"``: how a cell reads back.
+    basename : bool
+        Write only the base name of a path (molaR's ``File`` column).
     """
 
     header: str
     key: str
     kind: str
+    basename: bool = False
 
 
 def _kind(key: str) -> str:
     if key in _TEXT_COLUMNS:
         return "text"
-    return "int" if key in _INTEGER_COLUMNS else "float"
+    if key in _BOOL_COLUMNS:
+        return "bool"
+    return "int" if key in _INTEGER_COLUMNS or _ROTATION.match(key) else "float"
+
+
+#: ``build(metrics, rotations) -> columns`` of a layout whose columns follow the metrics.
+Builder = Callable[[tuple[str, ...], tuple[float, ...]], tuple[Column, ...]]
+#: ``parse(header) -> columns``: the columns of a file's header this layout knows.
+Parser = Callable[[Sequence[str]], tuple[Column, ...]]
 
 
 @dataclass(frozen=True)
@@ -68,7 +145,8 @@ class Layout:
     name : str
         The layout's name (``--columns NAME``).
     columns : tuple of Column
-        The columns, in order.
+        The columns, in order (of ariaDNE's table, for a layout whose columns
+        follow the metrics: see :meth:`for_metrics`).
     required : tuple of str
         Headers a file must have to be read as this layout.
     decimals : int or None
@@ -78,8 +156,15 @@ class Layout:
     failed_rows : bool
         Whether rows of files that failed are written.  A layout without
         them has no status column: every row it holds is ``ok``.
+    resumable : bool
+        Whether ``--resume`` can read it: it holds the settings of each row.
     description : str
         One line for ``--help``.
+    build, parse : callable, optional
+        The columns for given metrics, and the columns of a file's header;
+        None for a layout with fixed columns.
+    metrics : tuple of str
+        The metrics whose columns :attr:`columns` holds.
     """
 
     name: str
@@ -87,17 +172,29 @@ class Layout:
     required: tuple[str, ...]
     decimals: int | None = None
     failed_rows: bool = True
+    resumable: bool = True
     description: str = ""
+    build: Builder | None = field(default=None, repr=False, compare=False)
+    parse: Parser | None = field(default=None, repr=False, compare=False)
+    metrics: tuple[str, ...] = ("ariadne",)
 
     @property
     def header(self) -> tuple[str, ...]:
         """The column names, in order."""
         return tuple(column.header for column in self.columns)
 
+    def for_metrics(self, metrics=("ariadne",), rotations: Sequence[float] = ()) -> Layout:
+        """This layout with the columns of `metrics` (and of OPCR's `rotations`, degrees)."""
+        if self.build is None:
+            return self
+        metrics = check_metrics(metrics)
+        rotations = tuple(float(r) for r in rotations)
+        return replace(self, columns=self.build(metrics, rotations), metrics=metrics)
+
     def rows(self, records: Iterable[dict]) -> list[list]:
         """The cells of `records` in this layout (typed values; None for missing)."""
         return [
-            [record.get(column.key) for column in self.columns]
+            [column_value(record, column) for column in self.columns]
             for record in records
             if self.failed_rows or record.get("status") == "ok"
         ]
@@ -110,24 +207,47 @@ class Layout:
             return repr(value) if self.decimals is None else f"{value:.{self.decimals}f}"
         return str(value)
 
-    def records(self, raw: Iterable[dict]) -> list[dict]:
+    def records(self, raw: Iterable[dict], header: Sequence[str] = ()) -> list[dict]:
         """Rows read from a file (keyed by header) as typed records with every key of COLUMNS."""
+        raw = list(raw)
+        if self.parse is None:
+            columns = self.columns
+        else:  # the columns the rows hold (a file's header; the keys of journal rows)
+            columns = self.parse(header or list(dict.fromkeys(key for row in raw for key in row)))
         records = []
         for row in raw:
             record = dict.fromkeys(COLUMNS)
             if not self.failed_rows:
                 record["status"] = "ok"
-            for column in self.columns:
+            for column in columns:
                 record[column.key] = _typed(column.kind, row.get(column.header))
             records.append(record)
         return records
 
 
+def column_value(record: dict, column: Column):
+    """The value of `column` in `record` (a path cut to its base name where the column says)."""
+    value = record.get(column.key)
+    if column.basename and value is not None:
+        return os.path.basename(value)
+    return value
+
+
+def _dentopo_columns(metrics, rotations) -> tuple[Column, ...]:
+    return tuple(Column(key, key, _kind(key)) for key in record_keys(metrics, rotations))
+
+
+def _dentopo_parse(header: Sequence[str]) -> tuple[Column, ...]:
+    return tuple(Column(name, name, _kind(name)) for name in header if known_key(name))
+
+
 DENTOPO = Layout(
     name="dentopo",
-    columns=tuple(Column(key, key, _kind(key)) for key in COLUMNS),
+    columns=_dentopo_columns(("ariadne",), ()),
     required=("file", "status"),
     description="every column, with the library's names (the default; --resume reads it)",
+    build=_dentopo_columns,
+    parse=_dentopo_parse,
 )
 
 #: The columns of the published signDNE 0.1.4 command line, in its order and with its names.
@@ -153,26 +273,100 @@ SIGNDNE = Layout(
     ),
     decimals=16,
     failed_rows=False,
+    resumable=False,
     description="the published signDNE 0.1.4 CLI's columns and number format; ok rows only",
 )
 
+#: molaR_Batch's column names for our record keys, by metric, in its order.
+MOLAR_NAMES = {
+    "classic": {
+        "classic_dne": "DNE",
+        "classic_convex_dne": "Convex_DNE",
+        "classic_concave_dne": "Concave_DNE",
+        "classic_convex_area": "Convex_Area",
+        "classic_concave_area": "Concave_Area",
+    },
+    "rfi": {"rfi": "RFI", "area_3d": "3D_Area", "area_2d": "2D_Area", "alpha": "Alpha"},
+    "opcr": {"opcr": "OPCR"},
+    "opc": {"opc": "OPC", **{key: f"Bin {k}" for k, key in enumerate(BIN_KEYS, start=1)}},
+    "slope": {"slope": "Slope"},
+}
+#: ariaDNE's columns after molaR's, under names that cannot be taken for molaR's DNE.
+MOLAR_ARIADNE = {
+    "dne": "ariaDNE",
+    "positive_dne": "positive_ariaDNE",
+    "negative_dne": "negative_ariaDNE",
+}
+MOLAR_END = {"orientation": "orientation", "status": "status", "error": "error"}
+
+
+def _molar_rotation_header(key: str) -> str:
+    return f"{key[len('opc_') :]} deg."
+
+
+def _molar_columns(metrics, rotations) -> tuple[Column, ...]:
+    columns = [Column("File", "file", "text", basename=True)]
+    for metric in ("classic", "rfi", "opcr", "opc", "slope"):
+        if metric not in metrics:
+            continue
+        for key, header in MOLAR_NAMES[metric].items():
+            columns.append(Column(header, key, _kind(key)))
+            if key == "opcr":
+                for degrees in rotations:
+                    rkey = rotation_key(degrees)
+                    columns.append(Column(_molar_rotation_header(rkey), rkey, "int"))
+    if "ariadne" in metrics:
+        columns += [Column(header, key, "float") for key, header in MOLAR_ARIADNE.items()]
+    for key, header in MOLAR_END.items():
+        if key != "orientation" or ORIENTED.intersection(metrics):
+            columns.append(Column(header, key, "text"))
+    return tuple(columns)
+
+
+def _molar_parse(header: Sequence[str]) -> tuple[Column, ...]:
+    names = {"File": "file", **MOLAR_END}
+    for table in (*MOLAR_NAMES.values(), MOLAR_ARIADNE):
+        names.update({name: key for key, name in table.items()})
+    columns = []
+    for name in header:
+        if name in names:
+            columns.append(Column(name, names[name], _kind(names[name])))
+        elif name.endswith(" deg.") and _ROTATION.match("opc_" + name[: -len(" deg.")]):
+            columns.append(Column(name, "opc_" + name[: -len(" deg.")], "int"))
+    return tuple(columns)
+
+
+MOLAR = Layout(
+    name="molar",
+    columns=_molar_columns(METRICS, ()),
+    required=("File", "status"),
+    resumable=False,
+    description="molaR_Batch's columns (File, DNE, ..., RFI, ..., OPCR, ..., Slope; DNE is "
+    "classic DNE), then ariaDNE's, orientation, status and error",
+    build=_molar_columns,
+    parse=_molar_parse,
+    metrics=METRICS,
+)
+
 #: Column layouts by name; :func:`read_table` recognises a file's layout by its header.
-LAYOUTS: dict[str, Layout] = {layout.name: layout for layout in (DENTOPO, SIGNDNE)}
+LAYOUTS: dict[str, Layout] = {layout.name: layout for layout in (DENTOPO, SIGNDNE, MOLAR)}
 
 
-def layout(columns: str | Layout) -> Layout:
+def layout(columns: str | Layout, metrics=None, rotations: Sequence[float] = ()) -> Layout:
     """The :class:`Layout` named `columns` (a Layout is returned as it is).
+
+    With `metrics` (and OPCR's `rotations`), the layout's columns for them.
 
     Raises
     ------
     ValueError
-        For a name not in :data:`LAYOUTS`.
+        For a name not in :data:`LAYOUTS`, or an unknown metric.
     """
-    if isinstance(columns, Layout):
-        return columns
-    if columns not in LAYOUTS:
-        raise ValueError(f"unknown columns {columns!r}: use one of {', '.join(LAYOUTS)}")
-    return LAYOUTS[columns]
+    if not isinstance(columns, Layout):
+        if columns not in LAYOUTS:
+            raise ValueError(f"unknown columns {columns!r}: use one of {', '.join(LAYOUTS)}")
+        columns = LAYOUTS[columns]
+    return columns if metrics is None else columns.for_metrics(metrics, rotations)
 
 
 # --- formats ---------------------------------------------------------------------------------
@@ -421,6 +615,15 @@ def _typed(kind: str, value):
         return None
     if kind == "text":
         return str(value)
+    if kind == "bool":
+        if isinstance(value, bool):
+            return value
+        text = str(value).strip().lower()
+        if text in ("true", "1", "yes"):
+            return True
+        if text in ("false", "0", "no"):
+            return False
+        raise ValueError(f"{value!r} is not true or false")
     if kind == "int":
         if isinstance(value, float) and not value.is_integer():
             raise ValueError(f"{value!r} is not a whole number")
@@ -472,6 +675,6 @@ def read_table(path: str | os.PathLike, *, columns: str | Layout | None = None) 
     if missing:
         raise ValueError(f"{path!r} is not a {chosen.name} results table (no {', '.join(missing)})")
     try:
-        return chosen.records(raw)
+        return chosen.records(raw, header)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{path!r} has a malformed value: {exc}") from exc

@@ -22,6 +22,7 @@ import trimesh
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from ._orientation import Orientation, check_orient
 from ._surface import Surface, prepare_surface
 
 #: Number of aspect bins.
@@ -81,7 +82,11 @@ class OPCResult:
     patch_counted : (P,) bool
         Whether the patch counts towards ``opc``.
     mesh : trimesh.Trimesh
-        The cleaned mesh the per-face arrays refer to (a private copy).
+        The cleaned mesh the per-face arrays refer to (a private copy; turned
+        to +z if ``orient="auto"`` turned it).
+    orientation : Orientation
+        Which way the crown points (``+z``, ``-z`` or ``undetermined``) and
+        whether it was turned before measuring (``orient="auto"``).
     """
 
     opc: int
@@ -98,6 +103,7 @@ class OPCResult:
     patch_area: np.ndarray = field(repr=False, compare=False)
     patch_counted: np.ndarray = field(repr=False, compare=False)
     mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
         """The table fields: ``opc`` and ``opc_bin1`` .. ``opc_bin8``."""
@@ -128,6 +134,9 @@ class OPCRResult:
         Vertex and face counts of the cleaned mesh.
     first : OPCResult
         The full OPC result at rotation 0 (per-face bins and patches, for pictures).
+    orientation : Orientation
+        Which way the crown points (``+z``, ``-z`` or ``undetermined``) and
+        whether it was turned before measuring (``orient="auto"``).
     """
 
     opcr: float
@@ -140,6 +149,12 @@ class OPCRResult:
     vertices: int
     faces: int
     first: OPCResult = field(repr=False, compare=False)
+    orientation: Orientation | None = field(default=None, compare=False)
+
+    @property
+    def mesh(self) -> trimesh.Trimesh:
+        """The cleaned mesh the per-face arrays of :attr:`first` refer to."""
+        return self.first.mesh
 
     def to_dict(self) -> dict:
         """The table fields: ``opcr`` and one ``opc_<degrees>`` per rotation (``opc_5.625``)."""
@@ -295,17 +310,25 @@ def _opc_of(
         patch_area=patch_area,
         patch_counted=counted,
         mesh=surface.trimesh() if mesh is None else mesh,
+        orientation=surface.orientation,
     )
 
 
-def opc(mesh, rotation: float = 0.0, min_faces: int = 3, min_area: float = 0.0) -> OPCResult:
+def opc(
+    mesh,
+    rotation: float = 0.0,
+    min_faces: int = 3,
+    min_area: float = 0.0,
+    *,
+    orient: str = "as-is",
+) -> OPCResult:
     """Orientation patch count, as molaR 6.0's ``OPC`` computes it.
 
     1. **Mesh.** Files are read with :func:`dentopo.mesh.load_mesh`
        (duplicate vertices merged, as molaR's reader does); then molaR's
        cleaning (faces of zero area dropped, then vertices no face uses).
-       No re-orientation: the occlusal plane is taken to be the x-y plane.
-       The caller's mesh is never modified.
+       The occlusal plane is taken to be the x-y plane, the crown pointing
+       to +z (see `orient`).  The caller's mesh is never modified.
     2. **Aspect.** Unit face normal ``n`` from ``(v2 - v1) x (v3 - v1)`` in
        the face's stored vertex order; its x-y part is rotated by `rotation`
        degrees counter-clockwise (``r = rotation * pi / 180``,
@@ -336,6 +359,12 @@ def opc(mesh, rotation: float = 0.0, min_faces: int = 3, min_area: float = 0.0) 
     min_area : float, default 0.0
         When positive, count the patches with area greater than this fraction
         of the total surface area instead (molaR's ``minimum_area``); in [0, 1).
+    orient : {"as-is", "auto"}, default "as-is"
+        The metric assumes the crown points to +z.  ``"as-is"`` measures the
+        mesh as it lies (molaR's behaviour) and warns if the crown points to
+        -z; ``"auto"`` turns such a crown first (see
+        :func:`dentopo.topography.find_orientation`).  Either way the result's
+        ``orientation`` says what was found and done.
 
     Returns
     -------
@@ -345,6 +374,11 @@ def opc(mesh, rotation: float = 0.0, min_faces: int = 3, min_area: float = 0.0) 
     ------
     TypeError, ValueError
         For an unusable mesh or parameter; the message names it.
+
+    Warns
+    -----
+    UserWarning
+        With ``orient="as-is"``, when the crown points to -z.
 
     References
     ----------
@@ -368,13 +402,20 @@ def opc(mesh, rotation: float = 0.0, min_faces: int = 3, min_area: float = 0.0) 
     rotation = _check_finite("rotation", rotation)
     min_faces = _check_int("min_faces", min_faces, low=0)
     min_area = _check_min_area(min_area)
-    surface = prepare_surface(mesh)
+    surface = prepare_surface(mesh, orient=check_orient(orient))
+    surface.warn_orientation()
     incidence = _Incidence(surface.faces, len(surface.vertices))
     return _opc_of(surface, incidence, rotation, min_faces, min_area, None)
 
 
 def opcr(
-    mesh, steps: int = 8, step: float = 5.625, min_faces: int = 3, min_area: float = 0.0
+    mesh,
+    steps: int = 8,
+    step: float = 5.625,
+    min_faces: int = 3,
+    min_area: float = 0.0,
+    *,
+    orient: str = "as-is",
 ) -> OPCRResult:
     """Rotated orientation patch count (OPCR), as molaR 6.0's ``OPCr`` computes it.
 
@@ -395,6 +436,7 @@ def opcr(
         Degrees between rotations (molaR's ``stepSize``).
     min_faces : int, default 3
     min_area : float, default 0.0
+    orient : {"as-is", "auto"}, default "as-is"
         As for :func:`opc`.
 
     Returns
@@ -405,6 +447,11 @@ def opcr(
     ------
     TypeError, ValueError
         For an unusable mesh or parameter; the message names it.
+
+    Warns
+    -----
+    UserWarning
+        With ``orient="as-is"``, when the crown points to -z.
 
     References
     ----------
@@ -431,7 +478,8 @@ def opcr(
     step = _check_finite("step", step)
     min_faces = _check_int("min_faces", min_faces, low=0)
     min_area = _check_min_area(min_area)
-    surface = prepare_surface(mesh)
+    surface = prepare_surface(mesh, orient=check_orient(orient))
+    surface.warn_orientation()
     incidence = _Incidence(surface.faces, len(surface.vertices))
     cleaned = surface.trimesh()
     rotations = tuple(k * step + 0.0 for k in range(steps))  # never -0.0
@@ -448,4 +496,5 @@ def opcr(
         vertices=len(surface.vertices),
         faces=len(surface.faces),
         first=results[0],
+        orientation=surface.orientation,
     )

@@ -26,7 +26,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, depth_first_order
 from scipy.spatial import Delaunay, QhullError
 
-from ._surface import molar_scale, prepare_surface
+from ._orientation import Orientation, check_orient
+from ._surface import molar_face_areas, molar_scale, prepare_surface
 
 #: Scalar fields, in the order of output tables.
 RFI_FIELDS = ("rfi", "area_3d", "area_2d", "alpha")
@@ -77,7 +78,11 @@ class RFIResult:
         mesh's own units and position, chained head to tail around the loop
         (for drawing the outline over a top view).
     mesh : trimesh.Trimesh
-        The cleaned mesh (a private copy).
+        The cleaned mesh (a private copy; turned to +z if ``orient="auto"``
+        turned it, and the footprint with it).
+    orientation : Orientation
+        Which way the crown points (``+z``, ``-z`` or ``undetermined``) and
+        whether it was turned before measuring (``orient="auto"``).
     """
 
     rfi: float
@@ -89,6 +94,7 @@ class RFIResult:
     faces: int
     footprint: np.ndarray = field(repr=False, compare=False)
     mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
         """The table fields (:data:`RFI_FIELDS`) as a plain dict."""
@@ -96,18 +102,8 @@ class RFIResult:
 
 
 def molar_area_3d(vertices: np.ndarray, faces: np.ndarray) -> float:
-    """molaR's 3D area: per-face areas in single precision, summed in double.
-
-    molaR's mesh reader (vcglib, through Rvcg) stores coordinates as 32-bit
-    floats and computes each face's area there: the edge vectors, their cross
-    product and its norm in single precision; the face areas are then summed in
-    double precision.  This differs from the double-precision area by about
-    1e-9 relative on a typical crown (more for coordinates far from the origin).
-    """
-    tri = vertices.astype(np.float32)[faces]
-    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    double_area = np.sqrt((cross * cross).sum(axis=1, dtype=np.float32))
-    return float(double_area.astype(np.float64).sum() / 2)
+    """molaR's 3D area: per-face areas in single precision (:func:`molar_face_areas`), summed."""
+    return float(molar_face_areas(vertices, faces).sum())
 
 
 def first_occurrence(points: np.ndarray) -> np.ndarray:
@@ -338,7 +334,9 @@ def _chain(segments: np.ndarray, n: int) -> np.ndarray:
     return np.column_stack([order, np.roll(order, -1)])
 
 
-def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False) -> RFIResult:
+def rfi(
+    mesh, *, alpha: float = 0.075, find_alpha: bool = False, orient: str = "as-is"
+) -> RFIResult:
     """Relief index (Boyer 2008) as molaR 6.0's ``RFI`` computes it.
 
     molaR's conventions, all kept:
@@ -383,13 +381,19 @@ def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False) -> RFIResult:
     Parameters
     ----------
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        The crown, occlusal plane x-y and crown towards +z (molaR never
-        re-orients).  Never modified.
+        The crown, occlusal plane x-y and crown towards +z (see `orient`).
+        Never modified.
     alpha : float, default 0.075
         Radius of the alpha shape's discs, in molaR's rescaled units; with
         `find_alpha`, where the search starts.
     find_alpha : bool, default False
         Search for the alpha as molaR's ``findAlpha = TRUE`` does.
+    orient : {"as-is", "auto"}, default "as-is"
+        The metric assumes the crown points to +z.  ``"as-is"`` measures the
+        mesh as it lies (molaR's behaviour) and warns if the crown points to
+        -z; ``"auto"`` turns such a crown first (see
+        :func:`dentopo.topography.find_orientation`).  Either way the result's
+        ``orientation`` says what was found and done.
 
     Returns
     -------
@@ -402,6 +406,11 @@ def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False) -> RFIResult:
         `find_alpha`).
     TypeError, ValueError
         For bad parameters or an unusable mesh.
+
+    Warns
+    -----
+    UserWarning
+        With ``orient="as-is"``, when the crown points to -z.
 
     References
     ----------
@@ -424,7 +433,8 @@ def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False) -> RFIResult:
     if not isinstance(find_alpha, (bool, np.bool_)):
         raise TypeError(f"find_alpha must be True or False; got {type(find_alpha).__name__}")
     find_alpha = bool(find_alpha)
-    surface = prepare_surface(mesh)
+    surface = prepare_surface(mesh, orient=check_orient(orient))
+    surface.warn_orientation()
     vertices = surface.vertices
     area_3d = molar_area_3d(vertices, surface.faces)
 
@@ -461,4 +471,5 @@ def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False) -> RFIResult:
         faces=len(surface.faces),
         footprint=ends + mean[:2],
         mesh=surface.trimesh(),
+        orientation=surface.orientation,
     )

@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from ._surface import prepare_surface
+from ._orientation import Orientation, check_orient
+from ._surface import molar_face_areas, prepare_surface
 
 #: Scalar fields, in the order of output tables.
 SLOPE_FIELDS = ("slope",)
@@ -39,9 +40,14 @@ class SlopeResult:
         (R's ``round``: half to even): 0 flat and facing up, 90 vertical,
         above 90 overhanging.
     face_area : (m,) float64
-        Face areas, mesh units.
+        Face areas, mesh units, as molaR's reader computes them (in single
+        precision: :func:`dentopo.topography.molar_face_areas`); the mean's weights.
     mesh : trimesh.Trimesh
-        The cleaned mesh the per-face arrays refer to (a private copy).
+        The cleaned mesh the per-face arrays refer to (a private copy; turned
+        to +z if ``orient="auto"`` turned it).
+    orientation : Orientation
+        Which way the crown points (``+z``, ``-z`` or ``undetermined``) and
+        whether it was turned before measuring (``orient="auto"``).
     """
 
     slope: float
@@ -50,6 +56,7 @@ class SlopeResult:
     face_slope: np.ndarray = field(repr=False, compare=False)
     face_area: np.ndarray = field(repr=False, compare=False)
     mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``{"slope": ...}``)."""
@@ -66,19 +73,21 @@ def face_slopes(normals: np.ndarray) -> np.ndarray:
     return np.rint(angle).astype(np.int64)
 
 
-def slope(mesh) -> SlopeResult:
+def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
     """Mean surface slope, as molaR 6.0's ``Slope`` computes it.
 
     1. **Mesh.** Files are read with :func:`dentopo.mesh.load_mesh`
        (duplicate vertices merged, as molaR's reader does); then molaR's
        cleaning (faces of zero area dropped, then vertices no face uses).
-       No re-orientation: the occlusal plane is taken to be the x-y plane,
-       the crown pointing to +z.  The caller's mesh is never modified.
+       The occlusal plane is taken to be the x-y plane, the crown pointing
+       to +z (see `orient`).  The caller's mesh is never modified.
     2. **Per face.** Unit normal ``n`` from ``(v2 - v1) x (v3 - v1)`` in the
        face's stored vertex order; slope ``round(acos(n_z) * 180 / pi)`` in
        whole degrees (half to even).
     3. **Mean.** ``|sum(slope * area) / sum(area)|`` with face areas in mesh
-       units (molaR's default ``Guess = FALSE``).
+       units (molaR's default ``Guess = FALSE``), computed in single precision
+       as molaR's mesh reader computes them; the mean then equals molaR's to
+       the last bit on its reference meshes.
 
     The result does not depend on translation, uniform scale or the order of
     vertices and faces; it does depend on orientation.
@@ -87,6 +96,12 @@ def slope(mesh) -> SlopeResult:
     ----------
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
         A triangle mesh.  Never modified.
+    orient : {"as-is", "auto"}, default "as-is"
+        The metric assumes the crown points to +z.  ``"as-is"`` measures the
+        mesh as it lies (molaR's behaviour) and warns if the crown points to
+        -z; ``"auto"`` turns such a crown first (see
+        :func:`dentopo.topography.find_orientation`).  Either way the result's
+        ``orientation`` says what was found and done.
 
     Returns
     -------
@@ -95,7 +110,12 @@ def slope(mesh) -> SlopeResult:
     Raises
     ------
     TypeError, ValueError
-        For an unusable mesh; the message names the problem.
+        For an unusable mesh or `orient`; the message names the problem.
+
+    Warns
+    -----
+    UserWarning
+        With ``orient="as-is"``, when the crown points to -z.
 
     References
     ----------
@@ -111,13 +131,14 @@ def slope(mesh) -> SlopeResult:
     >>> slope(trimesh.creation.box()).slope  # 4 vertical sides, a top (0) and a bottom (180)
     90.0
     """
-    surface = prepare_surface(mesh)
+    surface = prepare_surface(mesh, orient=check_orient(orient))
+    surface.warn_orientation()
     return _slope_of(surface)
 
 
 def _slope_of(surface) -> SlopeResult:
     per_face = face_slopes(surface.normals)
-    area = surface.area
+    area = molar_face_areas(surface.vertices, surface.faces)
     mean = float(np.dot(per_face, area) / area.sum())
     return SlopeResult(
         slope=abs(mean),
@@ -126,4 +147,5 @@ def _slope_of(surface) -> SlopeResult:
         face_slope=per_face,
         face_area=area,
         mesh=surface.trimesh(),
+        orientation=surface.orientation,
     )

@@ -8,12 +8,14 @@ size".  These shared pieces live here so that the metrics agree on them.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import trimesh
 
 from ..mesh import as_arrays
+from ._orientation import Orientation, orient_vertices
 
 #: molaR rescales a mesh so that its size measure is this.
 SIZE_TARGET = 100.0
@@ -36,6 +38,8 @@ class Surface:
         Unit face normals (``cross`` normalised).
     dropped_faces : int
         Faces of zero area that were dropped.
+    orientation : Orientation or None
+        Which way the crown points and whether it was turned (when asked).
     """
 
     vertices: np.ndarray
@@ -44,6 +48,13 @@ class Surface:
     area: np.ndarray
     normals: np.ndarray
     dropped_faces: int = 0
+    orientation: Orientation | None = None
+
+    def warn_orientation(self, stacklevel: int = 3) -> None:
+        """Warn (``UserWarning``) if the crown is measured pointing to -z."""
+        message = None if self.orientation is None else self.orientation.warning()
+        if message is not None:
+            warnings.warn(message, UserWarning, stacklevel=stacklevel)
 
     @property
     def total_area(self) -> float:
@@ -78,13 +89,18 @@ def drop_unused(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np
     return vertices[used], remap[faces]
 
 
-def prepare_surface(mesh) -> Surface:
+def prepare_surface(mesh, orient: str | None = None) -> Surface:
     """Read and clean `mesh` as molaR does: zero-area faces dropped, then unused vertices.
 
     Parameters
     ----------
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
         Never modified.
+    orient : {"as-is", "auto"}, optional
+        For the metrics that assume the crown points to +z: find which way it
+        points (:func:`find_orientation`, recorded in ``Surface.orientation``)
+        and, with ``"auto"``, turn a crown pointing to -z first.  None: the
+        orientation is not looked at.
 
     Raises
     ------
@@ -101,6 +117,11 @@ def prepare_surface(mesh) -> Surface:
     if dropped:
         faces, cross, norm = faces[keep], cross[keep], norm[keep]
     vertices, faces = drop_unused(vertices, faces)
+    orientation = None
+    if orient is not None:
+        vertices, orientation = orient_vertices(vertices, faces, orient)
+        if orientation.turned:  # the same numbers, two of them negated (exactly)
+            cross = face_cross(vertices, faces)
     return Surface(
         vertices=vertices,
         faces=faces,
@@ -108,7 +129,24 @@ def prepare_surface(mesh) -> Surface:
         area=0.5 * norm,
         normals=cross / norm[:, None],
         dropped_faces=dropped,
+        orientation=orientation,
     )
+
+
+def molar_face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Face areas as molaR's mesh reader computes them: in single precision.
+
+    molaR's reader (vcglib, through Rvcg) stores coordinates as 32-bit floats
+    and computes each face's area there: the edge vectors, their cross product
+    and its norm in single precision.  RFI's 3D area and the weights of the
+    mean slope are these areas (as float64, summed in double precision); they
+    differ from double-precision areas by about 1e-9 relative on a typical
+    crown, more for coordinates far from the origin.
+    """
+    tri = vertices.astype(np.float32)[faces]
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    double_area = np.sqrt((cross * cross).sum(axis=1, dtype=np.float32))
+    return double_area.astype(np.float64) / 2
 
 
 def molar_scale(vertices: np.ndarray) -> float:

@@ -1,0 +1,236 @@
+"""Every metric a run asks for, on one mesh: one record, one failure per metric at most.
+
+A batch row holds ariaDNE and molaR's topography metrics side by side.  The
+mesh is read once; each metric is then computed on its own, and a metric that
+fails (RFI on a pinched footprint, say) leaves its cells empty and names its
+error, while the other metrics of the row are kept, as molaR_Batch carries on.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from numbers import Integral, Real
+
+from ..ariadne import ariaDNE
+from ..formats import METRIC_KEYS, SETTING_KEYS
+from ..mesh import load_mesh
+from ..topography import (
+    CLASSIC_KEYS,
+    ORIENTED,
+    check_metrics,
+    check_orient,
+    classic_dne,
+    opc,
+    opcr,
+    rfi,
+    rotation_key,
+    slope,
+)
+
+
+def _check_number(name: str, value, *, positive: bool = False) -> None:
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise TypeError(f"{name} must be a number; got {value!r}")
+    if not math.isfinite(value) or (positive and value <= 0):
+        kind = "a positive finite number" if positive else "finite"
+        raise ValueError(f"{name} must be {kind}; got {value!r}")
+
+
+def _check_count(name: str, value, *, low: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, Integral):
+        raise TypeError(f"{name} must be a whole number; got {value!r}")
+    if value < low:
+        raise ValueError(f"{name} must be at least {low}; got {value!r}")
+
+
+@dataclass(frozen=True)
+class TopographyOptions:
+    """The options of molaR's topography metrics in a batch (molaR's defaults).
+
+    Attributes
+    ----------
+    alpha : float
+        RFI's alpha (the starting alpha with `find_alpha`).
+    find_alpha : bool
+        Search for molaR's smallest valid alpha.
+    opcr_steps : int
+        OPCR's number of rotations.
+    opcr_step : float
+        OPCR's rotation step, degrees.
+    min_faces : int
+        OPC's smallest counted patch, in faces.
+    orient : str
+        ``"as-is"`` (molaR's behaviour) or ``"auto"`` (a crown pointing to -z
+        is turned before the metrics that assume +z).
+    """
+
+    alpha: float = 0.075
+    find_alpha: bool = False
+    opcr_steps: int = 8
+    opcr_step: float = 5.625
+    min_faces: int = 3
+    orient: str = "as-is"
+
+    def __post_init__(self):
+        _check_number("alpha", self.alpha, positive=True)
+        if not isinstance(self.find_alpha, bool):
+            raise TypeError(f"find_alpha must be True or False; got {self.find_alpha!r}")
+        _check_count("opcr_steps", self.opcr_steps, low=1)
+        _check_number("opcr_step", self.opcr_step)
+        _check_count("min_faces", self.min_faces, low=0)
+        object.__setattr__(self, "alpha", float(self.alpha))
+        object.__setattr__(self, "opcr_step", float(self.opcr_step))
+        object.__setattr__(self, "orient", check_orient(self.orient))
+
+    def rotations(self) -> tuple[float, ...]:
+        """OPCR's rotations, degrees."""
+        return tuple(k * self.opcr_step for k in range(self.opcr_steps))
+
+    def settings(self, metrics: Iterable[str]) -> dict:
+        """The settings columns of `metrics` (:data:`dentopo.formats.SETTING_KEYS`)."""
+        values = {
+            "rfi_alpha": self.alpha,
+            "find_alpha": self.find_alpha,
+            "opcr_steps": self.opcr_steps,
+            "opcr_step": self.opcr_step,
+            "min_faces": self.min_faces,
+        }
+        record = {}
+        for metric in metrics:
+            record.update({key: values[key] for key in SETTING_KEYS.get(metric, ())})
+        if ORIENTED.intersection(metrics):
+            record["orient"] = self.orient
+        return record
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """What the metrics of one mesh gave.
+
+    Attributes
+    ----------
+    record : dict
+        The values of every metric asked for (None where it failed), the
+        orientation found, and the settings columns; no ``file``,
+        ``seconds``, ``status`` or ``error``.
+    results : dict
+        Each metric's result object, by metric name (failed metrics absent).
+    errors : dict
+        Each failed metric's reason, by metric name.
+    """
+
+    record: dict
+    results: dict = field(default_factory=dict)
+    errors: dict = field(default_factory=dict)
+
+    @property
+    def status(self) -> str:
+        """``"ok"``, ``"partial"`` (some metric failed) or ``"error"`` (every one did)."""
+        if not self.errors:
+            return "ok"
+        return "error" if not self.results else "partial"
+
+    @property
+    def error(self) -> str | None:
+        """The reasons of the failed metrics, ``"metric: reason; ..."``, or None."""
+        if not self.errors:
+            return None
+        return "; ".join(f"{metric}: {reason}" for metric, reason in self.errors.items())
+
+
+def _values(metric: str, result, options: TopographyOptions) -> dict:
+    """The record values of one metric's result."""
+    if metric == "ariadne":
+        return result.to_dict()
+    if metric == "classic":
+        return {key: getattr(result, name) for name, key in CLASSIC_KEYS.items()}
+    values = dict(result.to_dict())
+    if metric == "opcr":
+        values = {"opcr": result.opcr}
+        for degrees, count in zip(result.rotations, result.opc_values, strict=True):
+            values[rotation_key(degrees)] = count
+    return values
+
+
+def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOptions, progress):
+    if metric == "ariadne":
+        return ariaDNE(mesh, progress=progress, **ariadne_options)
+    if metric == "classic":
+        return classic_dne(mesh)
+    if metric == "rfi":
+        return rfi(mesh, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient)
+    if metric == "opcr":
+        return opcr(
+            mesh,
+            steps=options.opcr_steps,
+            step=options.opcr_step,
+            min_faces=options.min_faces,
+            orient=options.orient,
+        )
+    if metric == "opc":
+        return opc(mesh, min_faces=options.min_faces, orient=options.orient)
+    return slope(mesh, orient=options.orient)
+
+
+def measure_mesh(
+    mesh,
+    metrics: str | Iterable[str] = ("ariadne",),
+    *,
+    ariadne_options: dict | None = None,
+    options: TopographyOptions | None = None,
+    reason: Callable[[BaseException], str] = str,
+    progress: Callable[[str], None] | None = None,
+) -> Measurement:
+    """Compute `metrics` on one mesh; a metric that fails is named, not raised.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh, str, path-like or (vertices, faces)
+        A path is read once (:func:`dentopo.load_mesh`) for all metrics.
+        Reading errors are raised: without a mesh there is no row.
+    metrics : str or iterable of str
+        Names of :data:`dentopo.topography.METRICS`, or ``"all"``.
+    ariadne_options : dict, optional
+        Keywords of :func:`dentopo.ariaDNE`.
+    options : TopographyOptions, optional
+        The options of the topography metrics.
+    reason : callable
+        Turns a metric's exception into its reason text.
+    progress : callable, optional
+        ariaDNE's phase callback; ``"topography"`` is reported before the
+        other metrics.
+    """
+    metrics = check_metrics(metrics)
+    options = TopographyOptions() if options is None else options
+    check_orient(options.orient)
+    ariadne_options = {} if ariadne_options is None else ariadne_options
+    if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
+        mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
+    record: dict = {}
+    results: dict = {}
+    errors: dict = {}
+    for metric in metrics:
+        keys = METRIC_KEYS[metric]
+        if metric != "ariadne" and progress is not None:
+            progress(metric)
+        try:
+            result = _compute(metric, mesh, ariadne_options, options, progress)
+        except (ValueError, TypeError, ArithmeticError) as exc:  # this metric, on this mesh
+            errors[metric] = reason(exc)
+            record.update(dict.fromkeys(keys))
+            if metric == "opcr":
+                record.update(dict.fromkeys(rotation_key(d) for d in options.rotations()))
+            if metric == "ariadne":  # its settings columns are still the settings
+                record.update(ariadne_options)
+            continue
+        results[metric] = result
+        record.update(_values(metric, result, options))
+        if metric in ORIENTED and "orientation" not in record:
+            record["orientation"] = str(result.orientation)
+    if ORIENTED.intersection(metrics):
+        record.setdefault("orientation", None)
+    record.update(options.settings(metrics))
+    return Measurement(record, results, errors)
