@@ -1,12 +1,24 @@
-# The Python suite (tests/test_bridges.py) writes the values dentopo.ariaDNE
-# gives in Python, and the message compute_batch gives for a corrupt file, to
-# a CSV named by DENTOPO_PARITY_CSV; the bridge must reproduce them.
+# The Python suite (tests/test_bridges.py) writes, into the directory named by
+# DENTOPO_PARITY_DIR, the values dentopo.ariaDNE gives in Python
+# (expected.csv) and a corrupt file with the message compute_batch gives for
+# it (bad_file.txt, bad_error.txt); the bridge must reproduce them.
 
-parity_table <- function() {
-  path <- Sys.getenv("DENTOPO_PARITY_CSV")
-  if (!nzchar(path)) skip("DENTOPO_PARITY_CSV not set (tests/test_bridges.py sets it)")
-  utils::read.csv(path, colClasses = "character", na.strings = character(),
-                  encoding = "UTF-8", fileEncoding = "UTF-8")
+parity_file <- function(name) {
+  dir <- Sys.getenv("DENTOPO_PARITY_DIR")
+  if (!nzchar(dir)) skip("DENTOPO_PARITY_DIR not set (tests/test_bridges.py sets it)")
+  file.path(dir, name)
+}
+
+parity_rows <- function(set) {
+  table <- utils::read.csv(parity_file("expected.csv"), colClasses = "character",
+                           encoding = "UTF-8", fileEncoding = "UTF-8")
+  table[table$set == set & table$distance_type == "euclidean", ]
+}
+
+read_utf8 <- function(path) {
+  text <- readChar(path, file.size(path), useBytes = TRUE)
+  Encoding(text) <- "UTF-8"
+  text
 }
 
 check_parity <- function(want) {
@@ -19,32 +31,30 @@ check_parity <- function(want) {
     expect_lte(difference, 1e-12, label = column)
     worst <- max(worst, difference)
   }
-  message(sprintf("R parity, %s (%d meshes): max relative difference %.3g",
-                  want$set[1L], nrow(want), worst))
+  # shown by tests/test_bridges.py
+  cat(sprintf("R parity, %s (%d meshes): max relative difference %.3g\n",
+              want$set[1L], nrow(want), worst))
 }
 
 test_that("the bridge gives Python's values on the bundled samples", {
   skip_without_dentopo()
-  table <- parity_table()
-  want <- table[table$set == "samples" & table$distance_type == "euclidean", ]
+  want <- parity_rows("samples")
   skip_if(nrow(want) == 0L, "no sample rows in the parity table")
   check_parity(want)
 })
 
 test_that("the bridge gives Python's values on the shared meshes", {
   skip_without_dentopo()
-  table <- parity_table()
-  want <- table[table$set == "shared" & table$distance_type == "euclidean", ]
+  want <- parity_rows("shared")
   skip_if(nrow(want) == 0L, "shared meshes absent (../shared/data/meshes)")
   check_parity(want)
 })
 
-test_that("error rows and their messages come through unchanged", {
+test_that("an error row and its message come through unchanged", {
   skip_without_dentopo()
-  table <- parity_table()
-  want <- table[table$set == "bad", ]
-  skip_if(nrow(want) == 0L, "no error rows in the parity table")
-  got <- dentopo_batch(want$file)
-  expect_equal(got$status, rep("error", nrow(want)))
-  expect_identical(got$error[match(want$file, got$file)], want$error)
+  bad <- read_utf8(parity_file("bad_file.txt"))
+  got <- dentopo_batch(bad)
+  expect_equal(got$file, bad)
+  expect_equal(got$status, "error")
+  expect_identical(got$error, read_utf8(parity_file("bad_error.txt")))
 })

@@ -2,7 +2,9 @@ test_that("dentopo_vertices: per-vertex values that add up to the totals", {
   skip_without_dentopo()
   dir <- withr::local_tempdir()
   good <- write_sphere_ply(file.path(dir, "sphere.ply"))
+  before <- list.files(tempdir(), pattern = "^dentopo-")
   v <- dentopo_vertices(good, bandwidth = 0.1)
+  expect_equal(list.files(tempdir(), pattern = "^dentopo-"), before)  # cleaned up
   expect_equal(names(v), c("vertex", "x", "y", "z", "local_curvature", "local_dne", "sign"))
   expect_equal(nrow(v), 66L)
   expect_equal(v$vertex, 0:65)
@@ -20,8 +22,10 @@ test_that("dentopo_vertices: a file that fails is an error with the command's me
   dir <- withr::local_tempdir()
   bad <- file.path(dir, "bad.ply")
   writeLines("not a mesh", bad)
-  message <- dentopo_batch(bad)$error
-  expect_error(dentopo_vertices(bad), message, fixed = TRUE)
+  before <- list.files(tempdir(), pattern = "^dentopo-")
+  expect_error(dentopo_vertices(bad),
+               "could not read mesh file '.*bad.ply': not a PLY file")
+  expect_equal(list.files(tempdir(), pattern = "^dentopo-"), before)  # also after an error
   expect_error(dentopo_vertices(dir), "directory")
   expect_error(dentopo_vertices(c(bad, bad)), "one mesh file")
 })
