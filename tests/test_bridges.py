@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import csv
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -81,6 +82,14 @@ def bridge_environment(parity_dir: Path) -> dict[str, str]:
     return env
 
 
+def readme_example(readme: Path, language: str, target: Path) -> Path:
+    """The first ``language`` code block of a bridge's README, written to ``target``."""
+    blocks = re.findall(rf"```{language}\n(.+?)```", readme.read_text(encoding="utf-8"), re.S)
+    assert blocks, f"no {language} example in {readme}"
+    target.write_text(blocks[0], encoding="utf-8")
+    return target
+
+
 def run(command: list[str], env: dict[str, str], cwd: Path) -> str:
     done = subprocess.run(command, env=env, cwd=cwd, capture_output=True, text=True)
     output = done.stdout + done.stderr
@@ -103,30 +112,33 @@ def test_r_package(parity_dir, tmp_path):
     library.mkdir()
     run(["R", "CMD", "INSTALL", "--no-test-load", "-l", str(library), str(R_PACKAGE)], env, ROOT)
     env["R_LIBS"] = os.pathsep.join(filter(None, [str(library), env.get("R_LIBS")]))
+    example = readme_example(R_PACKAGE / "README.md", "r", tmp_path / "example.R")
     output = run(
         [
             "Rscript",
             "-e",
             "testthat::test_dir('tests/testthat', package = 'dentopo', "
             "load_package = 'installed', reporter = 'summary', stop_on_failure = TRUE)",
+            "-e",
+            f"source({str(example)!r}, echo = TRUE)",  # the README's example runs
         ],
         env,
         R_PACKAGE,
     )
     print(output)  # the parity lines give the largest relative difference found
     assert "R parity, samples" in output
+    assert "tooth.ply" in output
 
 
-def test_matlab_functions_in_octave(parity_dir):
+def test_matlab_functions_in_octave(parity_dir, tmp_path):
     octave = shutil.which("octave-cli") or shutil.which("octave")
     if octave is None:
         pytest.skip("GNU Octave not installed (Debian: octave; .ci/run installs it)")
     env = bridge_environment(parity_dir)
-    output = run(
-        [octave, "--no-gui", "--no-window-system", "--norc", "--quiet", "--eval", "run_tests"],
-        env,
-        MATLAB / "tests",
-    )
+    example = readme_example(MATLAB / "README.md", "matlab", tmp_path / "readme_example.m")
+    script = f"run_tests; run({str(example)!r});"  # then the README's example
+    output = run([octave, "--norc", "--quiet", "--eval", script], env, MATLAB / "tests")
     print(output)
     assert "Octave parity, samples" in output
     assert "0 failed" in output
+    assert "ariaDNE 0." in output

@@ -34,6 +34,8 @@ function T = dentopo_batch(files, varargin)
 
 if ischar(files)
   files = {files};
+elseif isempty(files)
+  files = {};
 end
 if ~iscellstr(files)
   error('dentopo:files', 'dentopo_batch: FILES must be text or a cell array of text');
@@ -51,7 +53,10 @@ for k = 1:2:numel(varargin)
   end
 end
 [workdir, cleanup] = dentopo_workdir(); %#ok<ASGLU> removes workdir on return
-args = [{'--quiet', '--output', '-'}, dentopo_options(varargin), {'--'}, files(:)'];
+args = [{'--quiet', '--output', '-'}, dentopo_options(varargin)];
+if ~isempty(files)  % none: e.g. 'samples', true alone
+  args = [args, {'--'}, files(:)'];
+end
 rows = dentopo_read_table(dentopo_run(args, workdir));
 if exist('OCTAVE_VERSION', 'builtin') == 0 && exist('struct2table', 'file') == 2
   T = struct2table(rows, 'AsArray', true);

@@ -182,10 +182,11 @@ as_options <- function(options) {
 # subcommand is still a path.
 # @noRd
 as_paths <- function(files) {
-  if (!is.character(files) || length(files) == 0L || anyNA(files)) {
+  if (!is.character(files) || anyNA(files)) {
     stop("dentopo: 'files' must be a character vector of mesh files, directories or globs",
          call. = FALSE)
   }
+  if (length(files) == 0L) return(character())  # e.g. samples = TRUE alone
   c("--", path.expand(files))
 }
 
