@@ -1,0 +1,4 @@
+library(testthat)
+library(dentopo)
+
+test_check("dentopo")
