@@ -10,7 +10,8 @@ molaR is an R package and is not run here: its seconds come from the reference f
 a 2-core machine with its defaults, one metric call on a mesh already read.  Ours are measured
 the same way: the mesh is read once (``dentopo.load_mesh``), one warm-up call per metric, then
 the median of ``--repeat`` calls, each timed with ``time.perf_counter``.  Each call includes
-molaR's cleaning and everything else the metric does to a mesh it is given.  The ratio printed
+molaR's cleaning, the orientation check and everything else the metric does to a mesh it is
+given.  The ratio printed
 is molaR's seconds divided by ours; the issue's target is at least 20 (aim: 100) for OPCR, OPC,
 RFI and RFI with ``find_alpha`` on ``normal``.  Where molaR stopped (RFI at alpha 0.075 on a
 pinched footprint, ``NA``) there is no ratio.  Every value is also compared with molaR's, so a
@@ -27,6 +28,7 @@ import platform
 import statistics
 import sys
 import time
+import warnings
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -88,6 +90,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--data", type=Path, default=SHARED)
     args = parser.parse_args(argv)
+    # the reference crowns point to -z, and molaR measured them as they lie: so do we, without
+    # the warning that says so
+    warnings.filterwarnings("ignore", "the crown points to -z", UserWarning)
 
     reference_path = args.data / "reference" / "molaR_6.0_topography.csv"
     if not reference_path.exists():

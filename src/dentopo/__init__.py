@@ -2,8 +2,9 @@
 
 ariaDNE (Shan et al. 2019) measures how curved a surface is, robustly to how it
 is meshed; its sign-oriented extension (Hjerrild et al., signDNE) splits it
-into convex (cusps, ridges) and concave (valleys, basins) parts.  Classic DNE
-is computed as molaR 6.0 computes it.
+into convex (cusps, ridges) and concave (valleys, basins) parts.  Classic DNE,
+mean slope, OPC, OPCR and RFI are computed as molaR 6.0 computes them
+(:mod:`dentopo.topography`).
 
 The package is layered; each subpackage's docstring says what it holds and
 what it may import, and the arrows run one way, from the bottom up:
@@ -26,7 +27,10 @@ from .figures import (  # pyvista is imported only when a picture is drawn
     render_bandwidths,
     render_comparison,
     render_curvature,
+    render_footprint,
+    render_opc,
     render_panel,
+    render_slope,
 )
 from .formats import COLUMNS, read_per_vertex, read_table, write_per_vertex, write_table
 from .mesh import load_mesh
@@ -41,16 +45,36 @@ from .study import (
     write_study,
     write_sweep,
 )
-from .topography import ClassicDNEResult, classic_dne
+from .topography import (
+    AlphaAdjustmentError,
+    ClassicDNEResult,
+    OPCResult,
+    OPCRResult,
+    Orientation,
+    RFIResult,
+    SlopeResult,
+    classic_dne,
+    find_orientation,
+    opc,
+    opcr,
+    rfi,
+    slope,
+)
 
 __all__ = [
     "COLUMNS",
+    "AlphaAdjustmentError",
     "AriaDNEResult",
     "BandwidthSweep",
     "ClassicDNEResult",
     "ColorScale",
     "DisplayUnavailableError",
+    "OPCRResult",
+    "OPCResult",
+    "Orientation",
+    "RFIResult",
     "RobustnessStudy",
+    "SlopeResult",
     "__version__",
     "ariaDNE",
     "bandwidth_sweep",
@@ -61,17 +85,25 @@ __all__ = [
     "curvature_measure_sign",
     "diverging_rgb",
     "find_mesh_files",
+    "find_orientation",
     "load_mesh",
     "measure_radius",
+    "opc",
+    "opcr",
     "perturb",
     "read_per_vertex",
     "read_table",
     "render_bandwidths",
     "render_comparison",
     "render_curvature",
+    "render_footprint",
+    "render_opc",
     "render_panel",
+    "render_slope",
+    "rfi",
     "robustness_study",
     "sign_agreement",
+    "slope",
     "to_dataframe",
     "write_per_vertex",
     "write_study",

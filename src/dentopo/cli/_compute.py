@@ -80,6 +80,9 @@ examples:
   dentopo scans/ --per-vertex per_vertex/ -o results.csv
   dentopo scans/ -o - | cut -d, -f1,2           # CSV on stdout, messages on stderr
   dentopo scans/ --columns signdne -o DNEs.csv  # the published signDNE CLI's columns
+  dentopo scans/ --metrics all --columns molar -o topography.csv  # molaR_Batch's table
+  dentopo scans/ --metrics rfi,opcr,slope --find-alpha --orient auto -o topography.csv
+  dentopo tooth.ply --metrics opc --color-by opc --screenshot opc.png
   dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
 
 inputs are files, directories (searched recursively for ply, obj, stl, off, glb,
@@ -89,11 +92,16 @@ A file named like a subcommand is given as ./NAME.
 columns (also in the API and the files): file, dne, positive_dne,
 negative_dne, surface_area, positive_surface_area, negative_surface_area,
 vertices, faces, bandwidth, cutoff, distance_type, sign_method, method,
-seconds, status, error
+seconds, status, error; --metrics adds each metric's columns (classic_dne ...,
+rfi, area_3d, area_2d, alpha, opcr, opc_0 ... opc_39.375, opc, opc_bin1 ...
+opc_bin8, slope, orientation) and its settings. A metric that fails on a mesh
+leaves its cells empty, names itself in the error column, and the row's status
+is "partial".
 
 exit codes:
   0    every file ok
-  1    some file failed (its row says why), or the table could not be written
+  1    some file failed or is partial (its row says why), or the table could not
+       be written
   2    usage error, found before any file is computed: bad options, no mesh
        files found, an extra the options need is not installed, an --output
        that cannot be written
@@ -110,8 +118,8 @@ on the same FILE take turns: the second waits for the first.
 def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     """The argument parser of the main command (`subcommands`: names listed in its help)."""
     description = (
-        "Compute ariaDNE and its sign-oriented (convex/concave) split for triangle meshes:\n"
-        "one row per mesh."
+        "Compute ariaDNE and its sign-oriented (convex/concave) split for triangle meshes,\n"
+        "and molaR 6.0's classic DNE, RFI, OPCR, OPC and slope (--metrics): one row per mesh."
     )
     if subcommands:
         names = ", ".join(sorted(subcommands))
@@ -671,8 +679,9 @@ def _write(
                 previous = []
     records = merge_records(previous, new)
     mine = {os.path.abspath(f) for f in files}
-    failed = sum(r["status"] != "ok" for r in records if os.path.abspath(r["file"]) in mine)
-    # "failed" counts partial rows too: a metric is missing from them
+    statuses = [r["status"] for r in records if os.path.abspath(r["file"]) in mine]
+    failed = sum(status != "ok" for status in statuses)  # partial rows too: a metric is missing
+    partial = statuses.count("partial")
     code = 1 if failed or unrecorded else 0
 
     columns = layout(args.columns, settings.metrics, settings.rotations())
@@ -701,7 +710,8 @@ def _write(
             )
             return 1
         if not args.quiet:
-            _say(f"wrote {written} rows to {args.output} ({failed} failed)")
+            detail = f"{failed - partial} failed" + (f", {partial} partial" if partial else "")
+            _say(f"wrote {written} rows to {args.output} ({detail})")
     elif columns.name != "dentopo":
         print_layout(records, columns)
     else:

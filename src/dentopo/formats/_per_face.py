@@ -30,7 +30,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from ._atomic import atomic_write
-from ._per_vertex import OUTPUT_SUFFIX, _vtk_array, per_vertex_formats
+from ._per_vertex import OUTPUT_SUFFIX, per_vertex_formats, vtp_document
 
 #: The per-face files' suffix after the output suffix: ``tooth.dentopo.faces.ply``.
 FACES_SUFFIX = ".faces"
@@ -72,34 +72,6 @@ def _ply_bytes(vertices, faces, arrays) -> bytes:
         header.append(f"property {_PLY_TYPES[face.dtype[name].str.lstrip('<>|=')]} {name}")
     header += ["end_header", ""]
     return "\n".join(header).encode("ascii") + vertex.tobytes() + face.tobytes()
-
-
-def _vtp_text(vertices, faces, arrays) -> str:
-    connectivity = np.asarray(faces, dtype=np.int64).ravel()
-    offsets = np.arange(3, 3 * len(faces) + 1, 3, dtype=np.int64)
-    scalars = next(iter(arrays), "")
-    lines = [
-        '<?xml version="1.0"?>',
-        '<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian" header_type="UInt64">',
-        "<PolyData>",
-        f'<Piece NumberOfPoints="{len(vertices)}" NumberOfVerts="0" NumberOfLines="0" '
-        f'NumberOfStrips="0" NumberOfPolys="{len(faces)}">',
-        f'<CellData Scalars="{scalars}">',
-        *(_vtk_array(array, name) for name, array in arrays.items()),
-        "</CellData>",
-        "<Points>",
-        _vtk_array(np.asarray(vertices, dtype=np.float64), "Points"),
-        "</Points>",
-        "<Polys>",
-        _vtk_array(connectivity, "connectivity"),
-        _vtk_array(offsets, "offsets"),
-        "</Polys>",
-        "</Piece>",
-        "</PolyData>",
-        "</VTKFile>",
-        "",
-    ]
-    return "\n".join(lines)
 
 
 def _write_csv(stream, faces, arrays) -> None:
@@ -157,7 +129,7 @@ def write_per_face(
             data = _ply_bytes(vertices, faces, arrays)
             atomic_write(path, lambda stream, data=data: stream.write(data), binary=True)
         elif fmt == "vtp":
-            text = _vtp_text(vertices, faces, arrays)
+            text = vtp_document(vertices, faces, cell_data=arrays)
             atomic_write(path, lambda stream, text=text: stream.write(text))
         elif fmt == "npz":
             data = {"vertices": vertices, "faces": faces, **arrays}

@@ -206,9 +206,12 @@ def _vtk_array(array: np.ndarray, name: str | None = None) -> str:
     return f'<DataArray {attributes} format="binary">{payload}</DataArray>'
 
 
-def _vtp_text(vertices, faces, arrays, colors) -> str:
-    point_data = [_vtk_array(array, name) for name, array in arrays.items()]
-    point_data.append(_vtk_array(colors, "RGB"))
+def vtp_document(vertices, faces, *, point_data: dict = (), cell_data: dict = ()) -> str:
+    """A VTK XML PolyData file of triangles with named point and cell arrays (base64, binary).
+
+    The first array of each kind is marked as its active scalars.
+    """
+    point_data, cell_data = dict(point_data), dict(cell_data)
     connectivity = np.asarray(faces, dtype=np.int64).ravel()
     offsets = np.arange(3, 3 * len(faces) + 1, 3, dtype=np.int64)
     lines = [
@@ -217,9 +220,13 @@ def _vtp_text(vertices, faces, arrays, colors) -> str:
         "<PolyData>",
         f'<Piece NumberOfPoints="{len(vertices)}" NumberOfVerts="0" NumberOfLines="0" '
         f'NumberOfStrips="0" NumberOfPolys="{len(faces)}">',
-        '<PointData Scalars="local_curvature">',
-        *point_data,
-        "</PointData>",
+    ]
+    for tag, arrays in (("PointData", point_data), ("CellData", cell_data)):
+        if arrays:
+            lines.append(f'<{tag} Scalars="{next(iter(arrays))}">')
+            lines += [_vtk_array(array, name) for name, array in arrays.items()]
+            lines.append(f"</{tag}>")
+    lines += [
         "<Points>",
         _vtk_array(np.asarray(vertices, dtype=np.float64), "Points"),
         "</Points>",
@@ -233,6 +240,10 @@ def _vtp_text(vertices, faces, arrays, colors) -> str:
         "",
     ]
     return "\n".join(lines)
+
+
+def _vtp_text(vertices, faces, arrays, colors) -> str:
+    return vtp_document(vertices, faces, point_data={**arrays, "RGB": colors})
 
 
 def _write_csv(stream, vertices, arrays) -> None:
