@@ -279,7 +279,10 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         "opc (the patches) or rfi (the footprint outline over the top view); the metric must "
         "be among --metrics",
     )
-    view.add_argument("--view", default="iso", help="camera direction (default iso)")
+    view.add_argument(
+        "--view",
+        help="camera direction (default iso; top for the slope, opc and rfi pictures)",
+    )
     view.add_argument(
         "--window-size", nargs=2, type=int, metavar=("W", "H"), help="picture size in pixels"
     )
@@ -384,7 +387,7 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
         "field": args.color_by,
         "limits": tuple(args.limits) if args.limits else None,
         "percentile": args.percentile,
-        "view": args.view,
+        "view": args.view or "iso",
     }
     size = {"window_size": tuple(args.window_size)} if args.window_size else {}
     try:
@@ -425,7 +428,7 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
 
 def _render_metric(render, metric: str, result, args, options: dict) -> None:
     """One topography metric's picture: slope per face, OPC patches, or the RFI footprint."""
-    if args.view != "iso":  # the default camera of these pictures is the occlusal view
+    if args.view is not None:  # else each picture's own default: the occlusal view
         options["view"] = args.view
     if metric == "slope":
         render.render_slope(result.mesh, result.face_slope, **options)
