@@ -8,11 +8,9 @@ error, while the other metrics of the row are kept, as molaR_Batch carries on.
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from numbers import Integral, Real
 
 from ..ariadne import ariaDNE
 from ..formats import METRIC_KEYS, SETTING_KEYS
@@ -20,6 +18,10 @@ from ..mesh import load_mesh
 from ..topography import (
     CLASSIC_KEYS,
     ORIENTED,
+    check_alpha,
+    check_find_alpha,
+    check_finite,
+    check_int,
     check_metrics,
     check_orient,
     classic_dne,
@@ -27,23 +29,9 @@ from ..topography import (
     opcr,
     rfi,
     rotation_key,
+    rotations,
     slope,
 )
-
-
-def _check_number(name: str, value, *, positive: bool = False) -> None:
-    if isinstance(value, bool) or not isinstance(value, Real):
-        raise TypeError(f"{name} must be a number; got {value!r}")
-    if not math.isfinite(value) or (positive and value <= 0):
-        kind = "a positive finite number" if positive else "finite"
-        raise ValueError(f"{name} must be {kind}; got {value!r}")
-
-
-def _check_count(name: str, value, *, low: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, Integral):
-        raise TypeError(f"{name} must be a whole number; got {value!r}")
-    if value < low:
-        raise ValueError(f"{name} must be at least {low}; got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -75,19 +63,17 @@ class TopographyOptions:
     orient: str = "as-is"
 
     def __post_init__(self):
-        _check_number("alpha", self.alpha, positive=True)
-        if not isinstance(self.find_alpha, bool):
-            raise TypeError(f"find_alpha must be True or False; got {self.find_alpha!r}")
-        _check_count("opcr_steps", self.opcr_steps, low=1)
-        _check_number("opcr_step", self.opcr_step)
-        _check_count("min_faces", self.min_faces, low=0)
-        object.__setattr__(self, "alpha", float(self.alpha))
-        object.__setattr__(self, "opcr_step", float(self.opcr_step))
+        # the metrics' own checks, made once for the whole batch
+        object.__setattr__(self, "alpha", check_alpha(self.alpha))
+        object.__setattr__(self, "find_alpha", check_find_alpha(self.find_alpha))
+        object.__setattr__(self, "opcr_steps", check_int("opcr_steps", self.opcr_steps, low=1))
+        object.__setattr__(self, "opcr_step", check_finite("opcr_step", self.opcr_step))
+        object.__setattr__(self, "min_faces", check_int("min_faces", self.min_faces, low=0))
         object.__setattr__(self, "orient", check_orient(self.orient))
 
     def rotations(self) -> tuple[float, ...]:
         """OPCR's rotations, degrees."""
-        return tuple(k * self.opcr_step for k in range(self.opcr_steps))
+        return rotations(self.opcr_steps, self.opcr_step)
 
     def settings(self, metrics: Iterable[str]) -> dict:
         """The settings columns of `metrics` (:data:`dentopo.formats.SETTING_KEYS`)."""
@@ -120,11 +106,14 @@ class Measurement:
         Each metric's result object, by metric name (failed metrics absent).
     errors : dict
         Each failed metric's reason, by metric name.
+    metrics : tuple of str
+        The metrics asked for.
     """
 
     record: dict
     results: dict = field(default_factory=dict)
     errors: dict = field(default_factory=dict)
+    metrics: tuple[str, ...] = ()
 
     @property
     def status(self) -> str:
@@ -135,24 +124,22 @@ class Measurement:
 
     @property
     def error(self) -> str | None:
-        """The reasons of the failed metrics, ``"metric: reason; ..."``, or None."""
+        """The reasons of the failed metrics, ``"metric: reason; ..."``, or None.
+
+        With one metric asked for, its reason alone.
+        """
         if not self.errors:
             return None
+        if len(self.metrics) == 1:
+            return next(iter(self.errors.values()))
         return "; ".join(f"{metric}: {reason}" for metric, reason in self.errors.items())
 
 
-def _values(metric: str, result, options: TopographyOptions) -> dict:
-    """The record values of one metric's result."""
-    if metric == "ariadne":
-        return result.to_dict()
+def _values(metric: str, result) -> dict:
+    """The record values of one metric's result (classic DNE's under its prefixed keys)."""
     if metric == "classic":
         return {key: getattr(result, name) for name, key in CLASSIC_KEYS.items()}
-    values = dict(result.to_dict())
-    if metric == "opcr":
-        values = {"opcr": result.opcr}
-        for degrees, count in zip(result.rotations, result.opc_values, strict=True):
-            values[rotation_key(degrees)] = count
-    return values
+    return result.to_dict()
 
 
 def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOptions, progress):
@@ -200,12 +187,11 @@ def measure_mesh(
     reason : callable
         Turns a metric's exception into its reason text.
     progress : callable, optional
-        ariaDNE's phase callback; ``"topography"`` is reported before the
-        other metrics.
+        ariaDNE's phase callback; each other metric's name is reported as it
+        starts.
     """
     metrics = check_metrics(metrics)
     options = TopographyOptions() if options is None else options
-    check_orient(options.orient)
     ariadne_options = {} if ariadne_options is None else ariadne_options
     if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
         mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
@@ -227,10 +213,10 @@ def measure_mesh(
                 record.update(ariadne_options)
             continue
         results[metric] = result
-        record.update(_values(metric, result, options))
+        record.update(_values(metric, result))
         if metric in ORIENTED and "orientation" not in record:
             record["orientation"] = str(result.orientation)
     if ORIENTED.intersection(metrics):
         record.setdefault("orientation", None)
     record.update(options.settings(metrics))
-    return Measurement(record, results, errors)
+    return Measurement(record, results, errors, metrics)

@@ -170,9 +170,9 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
             warnings.simplefilter("always")
             try:
                 phases = None if on_phase is None else partial(on_phase, task.file)
-                mesh = task.path
-                if settings.geometry is not None or settings.metrics != ("ariadne",):
-                    mesh = load_mesh(task.path, geometry=settings.geometry)  # read once
+                mesh = task.path  # read once by measure_mesh, unless a geometry is picked
+                if settings.geometry is not None:
+                    mesh = load_mesh(task.path, geometry=settings.geometry)
                 measured = measure_mesh(
                     mesh,
                     settings.metrics,
@@ -181,9 +181,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                     reason=error_reason,
                     progress=phases,
                 )
-                if settings.metrics == ("ariadne",) and measured.errors:
-                    raise _AriadneError(measured.errors["ariadne"])
-                if task.per_vertex_dir is not None:
+                if task.per_vertex_dir is not None and measured.status != "error":
                     _write_per_mesh(task, measured)
             except Exception as exc:  # one bad file never stops the batch
                 seconds = round(time.perf_counter() - start, 4)
@@ -195,16 +193,16 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                 measured = None
             else:
                 seconds = round(time.perf_counter() - start, 4)
-                record = {"file": task.file, **measured.record}
-                record.update(seconds=seconds, status=measured.status, error=measured.error)
+                if measured.status == "error":  # no metric computed: an error row
+                    record = error_record(task.file, measured.error, seconds, settings.keys())
+                    measured = None
+                else:
+                    record = {"file": task.file, **measured.record}
+                    record.update(seconds=seconds, status=measured.status, error=measured.error)
     finally:
         numba.set_num_threads(previous_threads)
     messages = tuple(dict.fromkeys(str(w.message) for w in caught))
     return Outcome(task.index, record, messages, measured if task.keep_result else None)
-
-
-class _AriadneError(ValueError):
-    """ariaDNE, the only metric of the row, failed: the row is an error row, as before."""
 
 
 def _write_per_mesh(task: Task, measured: Measurement) -> None:

@@ -6,7 +6,8 @@ its rotated mean (``_opc``, molaR's ``OPC`` and ``OPCr``); the relief index with
 its alpha-shape footprint and molaR's search for an alpha (``_rfi``, molaR's
 ``RFI``).  They share molaR's surface preparation (``_surface``) and the
 orientation check of the metrics that assume the crown points to +z
-(``_orientation``); ``_metrics`` names them all, ariaDNE included, for a batch.
+(``_orientation``) and the checks of their parameters (``_parameters``);
+``_metrics`` names them all, ariaDNE included, for a batch.
 
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
@@ -25,6 +26,7 @@ from ._metrics import (
 )
 from ._opc import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
 from ._orientation import ORIENT_MODES, Orientation, check_orient, find_orientation, orient_vertices
+from ._parameters import check_alpha, check_find_alpha, check_finite, check_int
 from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
 from ._surface import Surface, molar_face_areas, molar_scale, prepare_surface
@@ -48,6 +50,10 @@ __all__ = [
     "RFIResult",
     "SlopeResult",
     "Surface",
+    "check_alpha",
+    "check_find_alpha",
+    "check_finite",
+    "check_int",
     "check_metrics",
     "check_orient",
     "classic_dne",

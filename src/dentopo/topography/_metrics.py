@@ -39,8 +39,8 @@ def rotation_key(degrees: float) -> str:
 
 
 def rotations(steps: int, step: float) -> tuple[float, ...]:
-    """The OPCR rotations in degrees: ``0, step, ..., (steps - 1) * step``."""
-    return tuple(k * step for k in range(steps))
+    """The OPCR rotations in degrees: ``0, step, ..., (steps - 1) * step`` (never -0.0)."""
+    return tuple(k * step + 0.0 for k in range(steps))
 
 
 def check_metrics(metrics: str | Iterable[str]) -> tuple[str, ...]:

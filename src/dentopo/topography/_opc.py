@@ -15,14 +15,16 @@ patch labelling.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from numbers import Integral, Real
 
 import numpy as np
 import trimesh
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from ._metrics import rotation_key
+from ._metrics import rotations as opcr_rotations
 from ._orientation import Orientation, check_orient
+from ._parameters import check_finite, check_int
 from ._surface import Surface, prepare_surface
 
 #: Number of aspect bins.
@@ -160,32 +162,15 @@ class OPCRResult:
         """The table fields: ``opcr`` and one ``opc_<degrees>`` per rotation (``opc_5.625``)."""
         row = {"opcr": self.opcr}
         for rotation, value in zip(self.rotations, self.opc_values, strict=True):
-            row[f"opc_{format(rotation, '.7g')}"] = value
+            row[rotation_key(rotation)] = value
         return row
 
 
 # --- parameters ---------------------------------------------------------------------------
 
 
-def _check_int(name: str, value, *, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, Integral):
-        raise TypeError(f"{name} must be an integer; got {type(value).__name__}")
-    if value < low:
-        raise ValueError(f"{name} must be at least {low}; got {value!r}")
-    return int(value)
-
-
-def _check_finite(name: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, Real):
-        raise TypeError(f"{name} must be a real number; got {type(value).__name__}")
-    value = float(value)
-    if not np.isfinite(value):
-        raise ValueError(f"{name} must be finite; got {value!r}")
-    return value
-
-
 def _check_min_area(value) -> float:
-    value = _check_finite("min_area", value)
+    value = check_finite("min_area", value)
     if not 0.0 <= value < 1.0:
         raise ValueError(
             "min_area is a fraction of the total surface area and must lie in [0, 1); "
@@ -399,8 +384,8 @@ def opc(
     >>> result.opc == sum(result.bin_counts)
     True
     """
-    rotation = _check_finite("rotation", rotation)
-    min_faces = _check_int("min_faces", min_faces, low=0)
+    rotation = check_finite("rotation", rotation)
+    min_faces = check_int("min_faces", min_faces, low=0)
     min_area = _check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
@@ -474,15 +459,15 @@ def opcr(
     >>> sorted(result.to_dict())[:3]
     ['opc_0', 'opc_11.25', 'opc_16.875']
     """
-    steps = _check_int("steps", steps, low=1)
-    step = _check_finite("step", step)
-    min_faces = _check_int("min_faces", min_faces, low=0)
+    steps = check_int("steps", steps, low=1)
+    step = check_finite("step", step)
+    min_faces = check_int("min_faces", min_faces, low=0)
     min_area = _check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
     incidence = _Incidence(surface.faces, len(surface.vertices))
     cleaned = surface.trimesh()
-    rotations = tuple(k * step + 0.0 for k in range(steps))  # never -0.0
+    rotations = opcr_rotations(steps, step)
     results = [_opc_of(surface, incidence, r, min_faces, min_area, cleaned) for r in rotations]
     values = tuple(result.opc for result in results)
     return OPCRResult(

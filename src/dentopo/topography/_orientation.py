@@ -89,10 +89,16 @@ def check_orient(orient) -> str:
     return orient.lower()
 
 
-def find_orientation(vertices: np.ndarray, faces: np.ndarray) -> Orientation:
-    """Which way along z the crown ``(vertices, faces)`` points (see the module's rule)."""
+def find_orientation(
+    vertices: np.ndarray, faces: np.ndarray, area: np.ndarray | None = None
+) -> Orientation:
+    """Which way along z the crown ``(vertices, faces)`` points (see the module's rule).
+
+    `area`: the faces' areas, if the caller has them already.
+    """
     tri = vertices[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    if area is None:
+        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
     edges = boundary_edges(faces, len(vertices))
     if len(edges):
         ends = vertices[edges]
@@ -109,14 +115,14 @@ def find_orientation(vertices: np.ndarray, faces: np.ndarray) -> Orientation:
 
 
 def orient_vertices(
-    vertices: np.ndarray, faces: np.ndarray, orient: str
+    vertices: np.ndarray, faces: np.ndarray, orient: str, area: np.ndarray | None = None
 ) -> tuple[np.ndarray, Orientation]:
     """The vertices to measure (turned to +z if ``orient="auto"`` and needed), and what was done.
 
-    Never modifies `vertices`.
+    `area`: the faces' areas, if the caller has them already.  Never modifies `vertices`.
     """
     orient = check_orient(orient)
-    found = find_orientation(vertices, faces)
+    found = find_orientation(vertices, faces, area)
     if orient == "auto" and found.points == "-z":
         return vertices @ TURN.T, Orientation(found.points, found.rule, turned=True)
     return vertices, found

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from numbers import Real
 
 import numpy as np
 import trimesh
@@ -27,6 +26,7 @@ from scipy.sparse.csgraph import connected_components, depth_first_order
 from scipy.spatial import Delaunay, QhullError
 
 from ._orientation import Orientation, check_orient
+from ._parameters import check_alpha, check_find_alpha
 from ._surface import molar_face_areas, molar_scale, prepare_surface
 
 #: Scalar fields, in the order of output tables.
@@ -318,15 +318,6 @@ class AlphaShape:
         return self.walk(start, FINE_STEP, True)
 
 
-def _check_alpha(alpha) -> float:
-    if isinstance(alpha, bool) or not isinstance(alpha, Real):
-        raise TypeError(f"alpha must be a real number; got {type(alpha).__name__}")
-    value = float(alpha)
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"alpha must be a positive finite number; got {alpha!r}")
-    return value
-
-
 def _chain(segments: np.ndarray, n: int) -> np.ndarray:
     """The segments of one closed loop, reordered head to tail."""
     graph = coo_matrix((np.ones(len(segments)), (segments[:, 0], segments[:, 1])), shape=(n, n))
@@ -429,10 +420,8 @@ def rfi(
     >>> sorted(result.to_dict())
     ['alpha', 'area_2d', 'area_3d', 'rfi']
     """
-    alpha = _check_alpha(alpha)
-    if not isinstance(find_alpha, (bool, np.bool_)):
-        raise TypeError(f"find_alpha must be True or False; got {type(find_alpha).__name__}")
-    find_alpha = bool(find_alpha)
+    alpha = check_alpha(alpha)
+    find_alpha = check_find_alpha(find_alpha)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
     vertices = surface.vertices

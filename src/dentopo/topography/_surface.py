@@ -117,16 +117,17 @@ def prepare_surface(mesh, orient: str | None = None) -> Surface:
     if dropped:
         faces, cross, norm = faces[keep], cross[keep], norm[keep]
     vertices, faces = drop_unused(vertices, faces)
+    area = 0.5 * norm
     orientation = None
     if orient is not None:
-        vertices, orientation = orient_vertices(vertices, faces, orient)
+        vertices, orientation = orient_vertices(vertices, faces, orient, area)
         if orientation.turned:  # the same numbers, two of them negated (exactly)
             cross = face_cross(vertices, faces)
     return Surface(
         vertices=vertices,
         faces=faces,
         cross=cross,
-        area=0.5 * norm,
+        area=area,
         normals=cross / norm[:, None],
         dropped_faces=dropped,
         orientation=orientation,
