@@ -321,8 +321,8 @@ th { position: sticky; top: 0; background: #f4f4f4; z-index: 1; }
 th[data-sort] { cursor: pointer; user-select: none; white-space: nowrap; }
 th[data-dir="asc"]::after { content: " \\25B2"; } th[data-dir="desc"]::after { content: " \\25BC"; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
-td.pic { padding: 1px; width: 100px; }
-img.thumb { width: 96px; height: 96px; display: block; }
+td.pic { padding: 1px; width: 84px; }
+img.thumb { width: 80px; height: 80px; display: block; }
 button.open { border: 0; padding: 0; background: none; cursor: pointer; }
 button.link { color: #1a55b0; text-decoration: underline; font: inherit; text-align: left; }
 .nothumb { color: #888; font-size: 12px; }
@@ -538,7 +538,7 @@ async function openViewer(index) {
     i: mesh.ijk[0], j: mesh.ijk[1], k: mesh.ijk[2],
     intensity: mesh.intensity, intensitymode: "vertex", colorscale: D.colorscale,
     cmin: -D.limit, cmax: D.limit, hoverinfo: "skip",
-    colorbar: { title: { text: "local curvature" } },
+    colorbar: { title: { text: "local curvature", side: "right" } },
     lighting: { ambient: 0.45, diffuse: 0.7, specular: 0.05, roughness: 0.9, fresnel: 0 },
   }], {
     margin: { l: 0, r: 0, t: 0, b: 0 },

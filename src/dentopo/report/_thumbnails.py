@@ -66,6 +66,8 @@ class Thumbnailer:
         )
         self.plotter.set_background("white")
         self.plotter.add_light(self.pv.Light(light_type="headlight"))
+        self.plotter.enable_parallel_projection()  # every specimen framed alike
+        self.plotter.show(auto_close=False)  # the first render, which resets the camera, now
         self.table = self.pv.LookupTable()
         self.table.values = lookup_table()
         self.table.scalar_range = scale.limits
@@ -107,7 +109,7 @@ class Thumbnailer:
             tuple(up),
         ]
         self.plotter.reset_camera()
-        self.plotter.camera.zoom(1.3)
+        self.plotter.camera.zoom(1.35)
         pixels = self.plotter.screenshot(return_img=True)
         buffer = io.BytesIO()
         options = {"quality": 85, "method": 4} if self.format == "WEBP" else {}
