@@ -217,6 +217,22 @@ def test_a_file_gone_since_is_listed_without_a_crash(collection, tmp_path):
     assert records == copy  # the caller's records are untouched
 
 
+def test_a_molar_table_of_base_names_finds_its_files_below_it(collection, tmp_path):
+    root, _, _ = collection
+    table = root / "molar.csv"
+    assert main([str(root / "scans"), "--columns", "molar", "-o", str(table), "-q"]) == 1
+    assert all("/" not in r["file"] for r in read_table(table))  # base names only
+    summary = write_report(table, tmp_path / "molar.html", jobs=1)
+    assert summary.specimens == 9 and summary.pictured == 8
+    assert summary.groups == ("apes", "monkeys") and summary.problems == {}
+
+
+def test_an_empty_table_gives_an_empty_page(tmp_path):
+    summary = write_report([], tmp_path / "empty.html")
+    assert (summary.specimens, summary.pictured, summary.groups) == (0, 0, ())
+    assert _rows((tmp_path / "empty.html").read_text()) == []
+
+
 def test_bad_arguments_raise_before_any_work(collection, tmp_path):
     _, table, _ = collection
     with pytest.raises(ValueError, match="no results table"):

@@ -3,8 +3,9 @@
 A table is read with :func:`dentopo.formats.read_table` (any layout it knows:
 dentopo's, the published signDNE CLI's, molaR_Batch's) or given as records.
 A row's ``file`` is looked for as written (relative to the working directory,
-as the ``dentopo`` command records it) and then relative to the table's
-directory (molaR's layout keeps only base names).
+as the ``dentopo`` command records it), then relative to the table's
+directory, and a bare base name (molaR's layout keeps only those) anywhere
+below the table's directory where it is found once.
 
 Groups come from the folders: each file's folder relative to the files' common
 root (files directly in the root form one group named after the root), or
@@ -120,6 +121,10 @@ def read_records(table) -> tuple[list[dict], str | None]:
     return records, None
 
 
+#: At most this many entries of the table's directory tree are looked through for base names.
+SEARCH_LIMIT = 200_000
+
+
 def locate(file: str, table_dir: str | None) -> str | None:
     """Where `file` is: as written, else relative to the table's directory; None if nowhere."""
     candidates = [file]
@@ -129,6 +134,26 @@ def locate(file: str, table_dir: str | None) -> str | None:
         if os.path.isfile(candidate):
             return candidate
     return None
+
+
+def files_below(root: str, names: set[str]) -> dict[str, str]:
+    """``base name -> path`` of the files called one of `names` under `root`, found once only.
+
+    For tables that keep only base names (molaR's layout) beside the folders of
+    the meshes.  A name found twice is left out (which file is meant cannot be
+    told); the walk stops after :data:`SEARCH_LIMIT` entries.
+    """
+    found: dict[str, str | None] = {}
+    seen = 0
+    for folder, directories, files in os.walk(root):
+        directories[:] = sorted(d for d in directories if not d.startswith("."))
+        seen += len(directories) + len(files)
+        for name in files:
+            if name in names:
+                found[name] = None if name in found else os.path.join(folder, name)
+        if seen > SEARCH_LIMIT:
+            break
+    return {name: path for name, path in found.items() if path is not None}
 
 
 def metric_keys(records: Sequence[dict]) -> list[str]:
@@ -237,6 +262,14 @@ def collect(table, *, groups=None) -> tuple[list[Specimen], list[str]]:
         if path is None and specimen.status != "error":
             specimen.problem = "file not found" if file else "no file named in the table"
         specimens.append(specimen)
+    lost = {s.file for s in specimens if s.path is None and s.file and s.file == s.name}
+    if lost and table_dir is not None:  # base names only: look below the table's folder
+        below = files_below(table_dir, lost)
+        for specimen in specimens:
+            if specimen.path is None and specimen.file in below:
+                specimen.path = below[specimen.file]
+                if specimen.problem == "file not found":
+                    specimen.problem = None
     if groups is None:
         names = folder_groups([s.path or s.file for s in specimens])
     elif isinstance(groups, Mapping):
