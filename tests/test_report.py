@@ -135,6 +135,17 @@ def test_the_subcommand_and_the_api_write_the_same_page(collection, tmp_path):
     assert _thumbnails(again.read_text()) == _thumbnails((tmp_path / "api.html").read_text())
 
 
+def test_worker_processes_write_the_same_page(collection, tmp_path, monkeypatch):
+    from dentopo.report import _fields
+
+    _, table, _ = collection
+    serial = write_report(table, tmp_path / "serial.html", jobs=1)
+    monkeypatch.setattr(_fields, "POOL_FROM", 2)  # start workers even for a few files
+    parallel = write_report(table, tmp_path / "parallel.html", jobs=2)
+    assert parallel.pictured == serial.pictured == 8
+    assert (tmp_path / "serial.html").read_bytes() == (tmp_path / "parallel.html").read_bytes()
+
+
 def test_payloads_unpack_to_the_meshes(collection):
     root, _, page = collection
     text = page.read_text()

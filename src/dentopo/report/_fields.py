@@ -68,21 +68,53 @@ def _one_thread() -> None:
     numba.set_num_threads(1)
 
 
-def measure_fields(tasks: Sequence[tuple[str, dict]], *, jobs: int = 1) -> list[Field | str]:
-    """:func:`measure_field` of each ``(path, options)``, over `jobs` worker processes."""
-    if jobs <= 1 or len(tasks) < POOL_FROM:
-        return [measure_field(path, options) for path, options in tasks]
-    jobs = min(jobs, len(tasks))
-    context = get_context("spawn")
-    results: list[Field | str] = []
-    with ProcessPoolExecutor(jobs, mp_context=context, initializer=_one_thread) as pool:
-        futures = [pool.submit(measure_field, path, options) for path, options in tasks]
-        for future in futures:
+class Workers:
+    """Worker processes for both steps of a report, or none; a context manager.
+
+    Parameters
+    ----------
+    jobs : int
+        Processes to start; with 1, or fewer than :data:`POOL_FROM` tasks,
+        none is started and everything runs in this process.
+    tasks : int
+        How many files there are.
+    """
+
+    def __init__(self, jobs: int, tasks: int):
+        self.pool = None
+        self.jobs = 1
+        if jobs > 1 and tasks >= POOL_FROM:
+            self.jobs = min(jobs, tasks)
+            self.pool = ProcessPoolExecutor(
+                self.jobs, mp_context=get_context("spawn"), initializer=_one_thread
+            )
+
+    def __enter__(self) -> Workers:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
+
+    def map(self, function, calls: Sequence[tuple], died) -> list:
+        """``function(*call)`` for each call, in order; ``died(call)`` where a worker died."""
+        if self.pool is None:
+            return [function(*call) for call in calls]
+        futures = [self.pool.submit(function, *call) for call in calls]
+        results = []
+        for call, future in zip(calls, futures, strict=True):
             try:
                 results.append(future.result())
             except BrokenProcessPool:
-                results.append("the worker process measuring it died (out of memory?)")
-    return results
+                results.append(died(call))
+        return results
+
+
+def measure_fields(tasks: Sequence[tuple[str, dict]], workers: Workers) -> list[Field | str]:
+    """:func:`measure_field` of each ``(path, options)``, on `workers`."""
+    return workers.map(
+        measure_field, tasks, lambda call: "the worker process measuring it died (out of memory?)"
+    )
 
 
 def default_jobs() -> int:

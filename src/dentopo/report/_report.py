@@ -2,20 +2,17 @@
 
 from __future__ import annotations
 
-import base64
 import os
 import time
 from dataclasses import dataclass
 
 from .._optional import PICTURES, REPORT
 from ..figures import DEFAULT_PERCENTILE, color_scale
-from ..figures._render import _quiet_vtk_warnings
 from ..formats import atomic_write
 from ._collect import collect
-from ._fields import Field, default_jobs, measure_fields
+from ._fields import Field, Workers, default_jobs, measure_fields
 from ._page import PageContent, render_page
-from ._payload import pack_mesh
-from ._thumbnails import THUMBNAIL_SIZE, Thumbnailer
+from ._thumbnails import THUMBNAIL_SIZE, draw
 
 
 @dataclass(frozen=True)
@@ -141,30 +138,35 @@ def write_report(
         if "dne" in metrics and specimen.status == "partial" and specimen.record.get("dne") is None:
             specimen.problem = specimen.problem or "ariaDNE failed (see the error)"
     todo = [s for s in specimens if s.path is not None and s.status != "error" and not s.problem]
-    fields = measure_fields(
-        [(s.path, s.ariadne_options()) for s in todo], jobs=jobs or default_jobs()
-    )
-    drawn: dict[int, Field] = {}
-    for specimen, result in zip(todo, fields, strict=True):
-        if isinstance(result, Field):
-            drawn[specimen.index] = result
+    jobs = jobs or default_jobs()
+    with Workers(jobs, len(todo)) as workers:
+        fields = measure_fields([(s.path, s.ariadne_options()) for s in todo], workers)
+        drawn: dict[int, Field] = {}
+        for specimen, result in zip(todo, fields, strict=True):
+            if isinstance(result, Field):
+                drawn[specimen.index] = result
+            else:
+                specimen.problem = result
+        if limits is not None:
+            scale = color_scale(limits=limits)
+        elif drawn:
+            scale = color_scale([f.values for f in drawn.values()], percentile=percentile)
         else:
-            specimen.problem = result
-    if limits is not None:
-        scale = color_scale(limits=limits)
-    elif drawn:
-        scale = color_scale([f.values for f in drawn.values()], percentile=percentile)
-    else:
-        scale = color_scale(limits=1.0)
-
+            scale = color_scale(limits=1.0)
+        indices = list(drawn)
+        chunks = [indices[k :: workers.jobs] for k in range(workers.jobs)]
+        chunks = [chunk for chunk in chunks if chunk]
+        pictures = workers.map(
+            draw,
+            [([drawn[i] for i in chunk], scale, thumbnail_size) for chunk in chunks],
+            lambda call: draw(*call),  # a worker died: draw its share here
+        )
     thumbnails, payloads = {}, {}
-    if drawn:
-        with _quiet_vtk_warnings(), Thumbnailer(scale, thumbnail_size) as thumbnailer:
-            for index, field in drawn.items():
-                picture = thumbnailer.render(field.vertices, field.faces, field.values)
-                encoded = base64.b64encode(picture).decode("ascii")
-                thumbnails[index] = f"data:{thumbnailer.mime};base64,{encoded}"
-                payloads[index] = pack_mesh(field.vertices, field.faces, field.values, scale)
+    for chunk, results in zip(chunks, pictures, strict=True):
+        for index, (thumbnail, payload) in zip(chunk, results, strict=True):
+            thumbnails[index], payloads[index] = thumbnail, payload
+    thumbnails = dict(sorted(thumbnails.items()))
+    payloads = dict(sorted(payloads.items()))
 
     order = list(dict.fromkeys(sorted(s.group for s in specimens)))
     source = os.fspath(table) if isinstance(table, (str, os.PathLike)) else "records"

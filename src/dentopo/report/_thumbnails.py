@@ -10,6 +10,7 @@ else PNG.
 
 from __future__ import annotations
 
+import base64
 import io
 
 import numpy as np
@@ -17,7 +18,9 @@ import numpy as np
 from .._optional import PICTURES, require
 from ..figures import ColorScale
 from ..figures._colors import lookup_table
+from ..figures._render import _quiet_vtk_warnings
 from ..figures._views import view_rotation
+from ._payload import pack_mesh
 
 #: Width and height of a thumbnail, pixels.
 THUMBNAIL_SIZE = 192
@@ -115,3 +118,25 @@ class Thumbnailer:
         options = {"quality": 85, "method": 4} if self.format == "WEBP" else {}
         self.image.fromarray(np.ascontiguousarray(pixels)).save(buffer, self.format, **options)
         return buffer.getvalue()
+
+
+def draw(fields: list, scale: ColorScale, size: int = THUMBNAIL_SIZE) -> list[tuple[str, dict]]:
+    """Each field's thumbnail (a ``data:`` URL) and 3D payload, through one plotter.
+
+    Parameters
+    ----------
+    fields : list of Field
+        Meshes with their values (see ``_fields``).
+    scale : ColorScale
+        The collection's colour limits.
+    size : int
+        Thumbnail width and height, pixels.
+    """
+    drawn = []
+    with _quiet_vtk_warnings(), Thumbnailer(scale, size) as thumbnailer:
+        for field in fields:
+            picture = thumbnailer.render(field.vertices, field.faces, field.values)
+            encoded = base64.b64encode(picture).decode("ascii")
+            payload = pack_mesh(field.vertices, field.faces, field.values, scale)
+            drawn.append((f"data:{thumbnailer.mime};base64,{encoded}", payload))
+    return drawn
