@@ -265,12 +265,13 @@ def test_report_needs_the_table_file(tmp_path, capsys):
 # --- in headless Chromium
 
 
-def _dom(tmp_path, url: str) -> tuple[str, str]:
+def _dom(tmp_path, url: str, *extra: str) -> tuple[str, str]:
     from test_html import chromium
 
     result = chromium(
         tmp_path,
         url,
+        *extra,
         "--use-gl=swiftshader",
         "--enable-unsafe-swiftshader",
         "--enable-logging=stderr",
@@ -288,12 +289,16 @@ def _status(dom: str) -> dict:
 
 @needs_chromium
 def test_the_page_in_chromium(collection, tmp_path):
+    from test_html import page_requests
+
     _, _, page = collection
-    dom, log = _dom(tmp_path, page.as_uri())
+    net_log = tmp_path / "net.json"
+    dom, log = _dom(tmp_path, page.as_uri(), f"--log-net-log={net_log}")
+    assert page_requests(net_log) == []  # nothing fetched
     status = _status(dom)
     assert status["ready"] == "yes"
     assert status["errors"] == ""
-    assert not re.search(r"CONSOLE.*(Uncaught|Error)", log), log
+    assert not re.search(r"CONSOLE.*(Uncaught|Error|Refused)", log), log  # CSP refusals too
     assert status["thumbnails"] == "8/8"  # every thumbnail decoded
     assert len(re.findall(r'<tr data-index="\d+"', dom)) == 9
     for metric in ("dne", "positive_dne", "negative_dne", "slope"):

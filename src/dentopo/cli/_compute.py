@@ -358,7 +358,9 @@ def _report_problem(args) -> str | None:
         return None
     if args.output in (None, STDOUT):
         return "--report is made from the table written: give -o FILE too"
-    from ..report._report import check_report_extras
+    if os.path.abspath(args.report) == os.path.abspath(args.output):
+        return "--report and --output name the same file"
+    from ..report import check_report_extras
 
     check_report_extras()  # MissingExtraError: one line naming the extra, exit 2
     return writable_problem(args.report, "--report")

@@ -11,8 +11,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from ..report import write_report
-from ..report._report import check_report_extras
+from ..report import check_report_extras, write_report
 from ._progress import PROG
 from ._progress import say as _say
 

@@ -14,6 +14,6 @@ May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
 Nothing from batch, study or cli.
 """
 
-from ._report import ReportSummary, write_report
+from ._report import ReportSummary, check_report_extras, write_report
 
-__all__ = ["ReportSummary", "write_report"]
+__all__ = ["ReportSummary", "check_report_extras", "write_report"]

@@ -11,6 +11,7 @@ reason instead of a field, and a worker that dies costs only the files it had.
 from __future__ import annotations
 
 import os
+import signal
 import warnings
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -62,9 +63,11 @@ def measure_field(path: str, options: dict) -> Field | str:
     )
 
 
-def _one_thread() -> None:
+def _start_worker() -> None:
+    """One numba thread; Ctrl-C is the parent's to handle (it stops the workers)."""
     import numba
 
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     numba.set_num_threads(1)
 
 
@@ -86,7 +89,7 @@ class Workers:
         if jobs > 1 and tasks >= POOL_FROM:
             self.jobs = min(jobs, tasks)
             self.pool = ProcessPoolExecutor(
-                self.jobs, mp_context=get_context("spawn"), initializer=_one_thread
+                self.jobs, mp_context=get_context("spawn"), initializer=_start_worker
             )
 
     def __enter__(self) -> Workers:
