@@ -29,6 +29,7 @@ import numpy as np
 import trimesh
 
 from dentopo import compute_batch, write_report, write_table
+from dentopo.formats import layout
 from dentopo.samples import tooth
 
 #: Folder (group) -> how much higher its crowns' relief is.
@@ -73,9 +74,10 @@ def main() -> None:
         paths = write_collection(directory / "scans", args.count, args.rings)
         vertices = len(trimesh.load(paths[0], process=False).vertices)
         start = time.perf_counter()
-        records = compute_batch(directory / "scans", jobs=2, metrics="ariadne,slope")
+        metrics = ("ariadne", "slope")
+        records = compute_batch(directory / "scans", jobs=2, metrics=metrics)
         table = directory / "results.csv"
-        write_table(table, records)
+        write_table(table, records, columns=layout("dentopo", metrics))
         print(
             f"{len(paths)} meshes of {vertices} vertices in {len(GROUPS)} groups; "
             f"table computed in {time.perf_counter() - start:.1f} s (not timed below); "

@@ -98,8 +98,9 @@ def write_report(
         fixed ``limits`` (``L`` or ``(-L, L)``), else ``percentile`` of the
         magnitude over every specimen's vertices (see :func:`dentopo.color_scale`).
     jobs : int, optional
-        Worker processes recomputing the curvature (default: every core;
-        1: in this process).
+        Worker processes recomputing the curvature and drawing the
+        thumbnails (default: every core; 1, or fewer than a dozen files: in
+        this process).  The page does not depend on it.
     thumbnail_size : int
         Thumbnail width and height, pixels.
 
