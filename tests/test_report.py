@@ -305,7 +305,9 @@ def test_the_page_in_chromium(collection, tmp_path):
         plot = re.search(rf'<div class="group-plot[^"]*" id="box-{metric}"[^>]*>(.*?)</svg>', dom)
         assert plot and "js-plotly-plot" in plot.group(0), metric
         assert "apes" in plot.group(1) and "monkeys" in plot.group(1)
-    assert re.search(r'<div id="splom" class="splom[^"]*js-plotly-plot', dom)
+    splom = dom[dom.index('<div id="splom"') : dom.index('<section id="problems"')]
+    assert "js-plotly-plot" in splom[:200] and "<canvas" in splom
+    assert 'class="no-webgl"' not in splom  # drawn, not plotly's "WebGL is not supported"
     assert re.search(r'<li data-index="\d+"><b>broken\.ply</b>', dom)
     assert re.search(r'<div id="viewer" hidden=""', dom)  # no 3D view until asked
 
@@ -320,7 +322,8 @@ def test_a_click_opens_the_3d_view(collection, tmp_path):
     assert "hidden" not in viewer and 'data-shown="3"' in viewer
     plot = re.search(r'<div id="viewer-plot"[^>]*>', dom).group(0)
     assert "js-plotly-plot" in plot
-    assert "<canvas" in dom.split('id="viewer-plot"')[1]
+    viewer_plot = dom.split('id="viewer-plot"')[1].split('id="report-status"')[0]
+    assert "<canvas" in viewer_plot and 'class="no-webgl"' not in viewer_plot
 
 
 @needs_chromium

@@ -11,9 +11,11 @@ then (``_payload``; the browser's ``DecompressionStream``); ``#view=N`` in the
 address opens specimen N on load.
 
 The page fetches nothing: a Content-Security-Policy forbids every request
-(images are ``data:`` URLs).  A small status element records for checks that
-the scripts ran (``data-ready``), how many thumbnails decoded, and any error
-reported to the console or left uncaught.
+(images are ``data:`` URLs).  It allows inline scripts and ``eval``: plotly's
+WebGL plots (the scatter matrix) compile their drawing code at run time, and
+without it they show "WebGL is not supported" instead.  A small status
+element records for checks that the scripts ran (``data-ready``), how many
+thumbnails decoded, and any error reported to the console or left uncaught.
 """
 
 from __future__ import annotations
@@ -45,7 +47,7 @@ GROUP_COLORS = (
 )
 
 _CSP = (
-    "default-src 'none'; script-src 'unsafe-inline'; "
+    "default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval'; "
     "style-src 'unsafe-inline'; img-src data: blob:; font-src data:"
 )
 
