@@ -27,6 +27,7 @@ ALLOWED = {
     "formats": {"mesh", "ariadne", "topography", "figures"},
     "batch": {"mesh", "sign", "ariadne", "topography", "formats"},
     "study": {"mesh", "sign", "ariadne", "topography", "formats"},
+    "report": {"mesh", "sign", "ariadne", "topography", "figures", "formats"},
     "cli": {
         "mesh",
         "sign",
@@ -36,6 +37,7 @@ ALLOWED = {
         "formats",
         "batch",
         "study",
+        "report",
         "samples",
     },
     "samples": set(),

@@ -216,6 +216,8 @@ def test_core_commands_work_without_extras(bare, tmp_path):
         (["robustness", "TOOTH", "-o", "study"], {}, "study"),
         (["robustness", "TOOTH", "-o", "study", "--no-figures"], {}, "study"),
         (["sweep", "TOOTH", "-o", "sweep"], {}, "study"),
+        (["report", "results.csv", "-o", "x.html"], {}, "report"),
+        (["--samples", "-o", "t.csv", "--report", "x.html"], {}, "report"),
     ],
 )
 def test_a_missing_extra_is_one_line_and_exit_2(bare, tmp_path, options, env, extra):
@@ -227,6 +229,7 @@ def test_a_missing_extra_is_one_line_and_exit_2(bare, tmp_path, options, env, ex
     assert_one_line_naming(result, extra)
     assert result.stdout == ""
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "p.png").exists()
+    assert not (tmp_path / "x.html").exists() and not (tmp_path / "t.csv").exists()
 
 
 def test_excel_output_without_its_extra(bare, tmp_path):
@@ -250,6 +253,7 @@ LIBRARY_CALLS = {
     "compute_batch dask": "dentopo.compute_batch(path, scheduler='tcp://x:1')",
     "perturb": "dentopo.perturb(tooth(rings=6), low_faces=50)",
     "write_sweep": "dentopo.write_sweep(None, 'out')",
+    "write_report": "dentopo.write_report([], 'x.html')",
 }
 LIBRARY_EXTRAS = {
     "to_dataframe": "table",
@@ -260,6 +264,7 @@ LIBRARY_EXTRAS = {
     "compute_batch dask": "cluster",
     "perturb": "study",
     "write_sweep": "study",
+    "write_report": "report",
 }
 
 

@@ -9,7 +9,7 @@ mean slope, OPC, OPCR and RFI are computed as molaR 6.0 computes them
 The package is layered; each subpackage's docstring says what it holds and
 what it may import, and the arrows run one way, from the bottom up:
 ``mesh`` < ``sign`` < ``ariadne`` < ``topography`` < ``figures`` < ``formats``
-< ``batch`` < ``study`` < ``cli``.
+< ``batch``, ``report`` < ``study`` < ``cli``.
 
 >>> from dentopo import ariaDNE
 >>> result = ariaDNE("tooth.ply")             # doctest: +SKIP
@@ -34,6 +34,7 @@ from .figures import (  # pyvista is imported only when a picture is drawn
 )
 from .formats import COLUMNS, read_per_vertex, read_table, write_per_vertex, write_table
 from .mesh import load_mesh
+from .report import ReportSummary, write_report
 from .sign import curvature_measure, curvature_measure_sign, measure_radius
 from .study import (
     BandwidthSweep,
@@ -73,6 +74,7 @@ __all__ = [
     "OPCResult",
     "Orientation",
     "RFIResult",
+    "ReportSummary",
     "RobustnessStudy",
     "SlopeResult",
     "__version__",
@@ -106,6 +108,7 @@ __all__ = [
     "slope",
     "to_dataframe",
     "write_per_vertex",
+    "write_report",
     "write_study",
     "write_sweep",
     "write_table",

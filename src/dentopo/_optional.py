@@ -134,6 +134,8 @@ DECIMATION = Feature("decimated meshes", "fast_simplification", "study")
 STUDY_FIGURES = Feature("study figures", "matplotlib", "study")
 #: ``.xlsx`` tables.
 EXCEL = Feature("Excel tables", "openpyxl", "excel")
+#: The collection report's plots and 3D views (plotly.js, inlined into the page).
+REPORT = Feature("collection reports", "plotly", "report")
 
 #: Every feature above, for checks and tests.
-FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, DECIMATION, STUDY_FIGURES, EXCEL)
+FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, DECIMATION, STUDY_FIGURES, EXCEL, REPORT)

@@ -257,6 +257,12 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help=f"per-vertex formats, repeatable or comma-separated: {', '.join(PER_VERTEX_FORMATS)} "
         f"(default {','.join(DEFAULT_PER_VERTEX_FORMATS)})",
     )
+    out.add_argument(
+        "--report",
+        metavar="HTML",
+        help="then write a report of the table: one self-contained HTML page (needs -o FILE; "
+        "see dentopo report --help)",
+    )
     view = parser.add_argument_group("visualisation")
     view.add_argument(
         "--show",
@@ -321,6 +327,9 @@ def _check_usage(args) -> str | None:
         problem = writable_problem(args.output, "--output")  # now, not after the last mesh
         if problem:
             return problem
+    problem = _report_problem(args)
+    if problem:
+        return problem
     if args.resume and args.output is None:
         return "--resume needs --output (the table to resume)"
     if args.resume and args.output == STDOUT:
@@ -341,6 +350,20 @@ def _check_usage(args) -> str | None:
     if args.screenshot is not None and not args.screenshot.lower().endswith(".png"):
         return "--screenshot must end in .png"
     return None
+
+
+def _report_problem(args) -> str | None:
+    """A problem with --report (it is made from the --output table), or None."""
+    if args.report is None:
+        return None
+    if args.output in (None, STDOUT):
+        return "--report is made from the table written: give -o FILE too"
+    if os.path.abspath(args.report) == os.path.abspath(args.output):
+        return "--report and --output name the same file"
+    from ..report import check_report_extras
+
+    check_report_extras()  # MissingExtraError: one line naming the extra, exit 2
+    return writable_problem(args.report, "--report")
 
 
 def _missing_extra(args, settings, scheduler) -> str | None:
@@ -650,6 +673,10 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
         _say(f"{_interruption(interrupted)} after the table was written")
     if interrupted is not None:
         return INTERRUPTED
+    if args.report is not None and os.path.exists(args.output):
+        from ._report import report_after_batch
+
+        code = max(code, report_after_batch(args.output, args.report, quiet=args.quiet))
     if code or not rendering:
         return code
     try:

@@ -1,0 +1,19 @@
+"""The collection report: one self-contained HTML page for a whole results table.
+
+``_collect`` (the table's rows, where their files are, which group each belongs
+to, which metric columns it holds), ``_fields`` (each specimen's signed local
+curvature, recomputed with the table's settings, in worker processes),
+``_thumbnails`` (small off-screen pictures through one pyvista plotter),
+``_payload`` (each mesh packed small for the page's 3D view, unpacked only when
+asked), ``_page`` (the HTML: the sortable table, the per-group plots, the
+viewer; plotly's JavaScript inlined once), ``_report`` (the entry point
+:func:`write_report`).
+
+May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
+:mod:`dentopo.topography`, :mod:`dentopo.figures`, :mod:`dentopo.formats`.
+Nothing from batch, study or cli.
+"""
+
+from ._report import ReportSummary, check_report_extras, write_report
+
+__all__ = ["ReportSummary", "check_report_extras", "write_report"]
