@@ -93,3 +93,14 @@ def test_inputs_are_not_modified():
     bending(covariance, normals)
     np.testing.assert_array_equal(covariance, saved[0])
     np.testing.assert_array_equal(normals, saved[1])
+
+
+def test_serial_and_parallel_loops_give_the_same_bits(monkeypatch):
+    from dentopo.ariadne import _eigen
+
+    rng = np.random.default_rng(5)
+    covariance = random_covariances(rng, 3000, 4)
+    normals = unit(rng, 3000)
+    serial = bending(covariance, normals)
+    monkeypatch.setattr(_eigen, "PARALLEL_VERTICES", 0)
+    np.testing.assert_array_equal(bending(covariance, normals), serial)

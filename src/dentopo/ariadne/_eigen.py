@@ -80,7 +80,6 @@ def _jacobi(a, v):
             return
 
 
-@njit(cache=True, parallel=True)
 def _bending(covariance, normals, work, out):
     """``out[i] = lambda / trace`` of ``covariance[i]`` (see ``bending``).
 
@@ -118,6 +117,13 @@ def _bending(covariance, normals, work, out):
         out[i] = pick / trace if trace > 0 else 0.0
 
 
+#: The compiled loop, serial and parallel: threads pay off from this many vertices on
+#: (starting them costs more than 2,000 solves, on a busy machine much more).
+_bending_serial = njit(cache=True)(_bending)
+_bending_parallel = njit(cache=True, parallel=True)(_bending)
+PARALLEL_VERTICES = 50_000
+
+
 def bending(covariance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     """Local bending ``lambda / trace`` of each symmetric 3 x 3 covariance.
 
@@ -139,5 +145,6 @@ def bending(covariance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     covariance = np.ascontiguousarray(covariance, dtype=np.float64)
     normals = np.ascontiguousarray(normals, dtype=np.float64)
     out = np.empty(len(covariance))
-    _bending(covariance, normals, np.empty((len(covariance), 2, 3, 3)), out)
+    solve = _bending_parallel if len(covariance) >= PARALLEL_VERTICES else _bending_serial
+    solve(covariance, normals, np.empty((len(covariance), 2, 3, 3)), out)
     return out

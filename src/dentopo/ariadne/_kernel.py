@@ -464,24 +464,22 @@ def _half_sums(
             _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows, cols, off)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def _gather_sums(task_start, col_offset, buffer_start, buffer, rows):
-    """Add every task's columns to ``rows``, in task order (see ``_half_sums``)."""
-    n = rows.shape[1]
-    tasks = task_start.shape[0] - 1
-    chunks = 64
-    for chunk in prange(chunks):
-        j0 = n * chunk // chunks
-        j1 = n * (chunk + 1) // chunks
-        for task in range(tasks):
-            off = col_offset[task]
-            width = (buffer_start[task + 1] - buffer_start[task]) // 11
-            lo = max(j0, off)
-            hi = min(j1, off + width)
-            base = buffer_start[task]
-            for q in range(11):
-                for j in range(lo, hi):
-                    rows[q, j] += buffer[base + q * width + j - off]
+    """Add every task's columns to ``rows``, in task order (see ``_half_sums``).
+
+    Serial: a few additions per vertex and task, less than starting the threads
+    costs on a busy machine.  Writes into ``rows`` and returns nothing.
+    """
+    for task in range(task_start.shape[0] - 1):
+        off = col_offset[task]
+        width = (buffer_start[task + 1] - buffer_start[task]) // 11
+        base = buffer_start[task]
+        for q in range(11):
+            column = buffer[base + q * width : base + (q + 1) * width]
+            target = rows[q, off : off + width]
+            for j in range(width):
+                target[j] += column[j]
 
 
 def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2, t_max):
