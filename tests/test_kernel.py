@@ -169,3 +169,22 @@ def test_kernel_table_is_the_inline_exponential_table():
     table = exp_table(kernel_radius(1.0, 5e-324) ** 2)
     assert len(_kernel.EXP_TABLE) >= len(table)
     np.testing.assert_array_equal(_kernel.EXP_TABLE[: len(table)], table)
+
+
+def test_kernel_sums_with_uneven_work_equal_brute_force():
+    # a dense cluster and scattered far points: the tasks' rows are cut by their
+    # work, some tasks get few rows or none
+    rng = np.random.default_rng(14)
+    points = np.concatenate([rng.normal(size=(900, 3)) * 0.01, rng.normal(size=(300, 3)) * 50])
+    moments = euclidean_moments(points, 0.08, 0.0)
+    weight, first, second, count = brute_force(points, 0.08, 0.0)
+    np.testing.assert_allclose(moments.weight, weight, rtol=1e-13)
+    np.testing.assert_allclose(moments.first, first, rtol=1e-12, atol=1e-15 * np.abs(first).max())
+    np.testing.assert_allclose(moments.second, second, rtol=1e-12, atol=1e-15 * second.max())
+    np.testing.assert_array_equal(moments.count, count)
+
+
+def test_no_points_no_sums():
+    moments = euclidean_moments(np.zeros((0, 3)), 0.08, 0.0)
+    assert moments.weight.shape == (0,) and moments.second.shape == (0, 3, 3)
+    assert moments.count.shape == (0,)

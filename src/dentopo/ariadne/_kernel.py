@@ -13,7 +13,11 @@ centroid ``g_i = x_i + first / S0`` follow.  No n x n matrix is formed: rows are
 processed in spatially compact blocks, each against the vertices within the
 kernel's effective radius.  Euclidean: a compiled, vectorised loop over long
 runs of Morton-ordered points within reach, accumulating relative to each
-vertex (no cancellation).  Geodesic and precomputed: blocks of rows (Dijkstra bounded by
+vertex (no cancellation); up to ``PAIRED_VERTICES`` vertices each pair is
+computed once and added to both of its vertices (``_half_sums``), above that
+each vertex's row in full (``_run_sums``, in linear memory).  Both add every
+vertex's terms in an order that does not depend on the number of threads.
+Geodesic and precomputed: blocks of rows (Dijkstra bounded by
 the radius on the sparse edge graph), with moments accumulated relative to the
 block's centre so that cancellation is limited to the block's extent.
 """
@@ -504,7 +508,7 @@ def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2, t_ma
     first_block = block_of[np.minimum(task_start[:-1], n - 1)]
     reach_end = np.array(
         [
-            max(int(end_of_runs[b0 : b1 + 1].max()), t1)
+            end_of_runs[b0 : b1 + 1].max(initial=t1)  # a task without rows: nothing
             for b0, b1, t1 in zip(first_block, last_block, task_start[1:], strict=True)
         ],
         np.int64,
@@ -600,7 +604,11 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
     the kernel reaches across the whole mesh, as it does on a tooth at the
     default bandwidth).  Long runs matter more than pruning the last pairs: the
     loop is vectorised, and short runs waste it.  Sums are accumulated relative
-    to the vertex itself (no cancellation).
+    to the vertex itself (no cancellation).  Up to ``PAIRED_VERTICES`` vertices
+    each pair is computed once (``_half_sums``: ``w_ij = w_ji``, about 25% less
+    work; a buffer of up to ``PAIRED_TASKS * 88`` bytes per vertex), above that
+    each vertex's row in full (``_run_sums``).  The two add the same terms in
+    different orders: they agree to rounding error (about 1e-15 relative).
 
     Parameters
     ----------
@@ -615,6 +623,8 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
     bandwidth, cutoff = check_bandwidth(bandwidth), check_cutoff(cutoff)
     points = np.ascontiguousarray(points, dtype=np.float64)
     n = len(points)
+    if n == 0:
+        return KernelMoments(np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros(0, int))
     radius = kernel_radius(bandwidth, cutoff)
     order = spatial_order(points)
     ordered = points[order]
