@@ -37,7 +37,26 @@ def read_csv(path):
 
 def test_version(capsys):
     assert main(["--version"]) == 0
-    assert __version__ in capsys.readouterr().out
+    fast = capsys.readouterr().out
+    assert __version__ in fast
+    # the same line as the main command's own parser prints for it
+    assert _cli.compute_main(["--version"], tuple(SUBCOMMANDS)) == 0
+    assert capsys.readouterr().out == fast
+
+
+def test_version_and_import_load_no_numerics():
+    import subprocess
+
+    code = (
+        "import sys; from dentopo.cli import main; main(['--version']); import dentopo; "
+        "print(sorted(m for m in ('numba', 'scipy', 'trimesh', 'numpy') if m in sys.modules)); "
+        "print(callable(dentopo.ariaDNE), set(dentopo.__all__) <= set(dir(dentopo)))"
+    )
+    ran = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    lines = ran.stdout.splitlines()
+    assert lines[0] == f"dentopo {__version__}"
+    assert lines[1] == "[]"
+    assert lines[2] == "True True"
 
 
 def test_help_shows_the_papers_examples(capsys):

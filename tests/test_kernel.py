@@ -98,3 +98,93 @@ def test_spatial_order_is_plain_morton_without_crowded_cells():
     assert np.array_equal(spatial_order(points), _morton_order(points)[0])
     same = np.zeros((300, 3))  # identical points: no endless refinement
     assert np.array_equal(np.sort(spatial_order(same)), np.arange(300))
+
+
+def _moments_bits(moments):
+    return [
+        np.asarray(getattr(moments, name)).tobytes()
+        for name in ("weight", "first", "second", "count")
+    ]
+
+
+@pytest.mark.parametrize("cutoff", [0.0, 0.3])
+def test_paired_kernel_is_bit_identical_at_any_thread_count_and_call_size(cutoff, monkeypatch):
+    import numba
+
+    from dentopo.ariadne import _kernel
+
+    rng = np.random.default_rng(11)
+    points = rng.normal(size=(3000, 3)) * [0.5, 0.3, 0.1]
+    assert len(points) <= _kernel.PAIRED_VERTICES
+    before = numba.get_num_threads()
+    runs = []
+    try:
+        for threads in (1, numba.config.NUMBA_NUM_THREADS, 1):
+            numba.set_num_threads(threads)
+            runs.append(_moments_bits(euclidean_moments(points, 0.08, cutoff)))
+        # many short calls (as for Ctrl-C on a large mesh): the same sums
+        monkeypatch.setattr(_kernel, "PAIRS_PER_CALL", 10_000)
+        runs.append(_moments_bits(euclidean_moments(points, 0.08, cutoff)))
+    finally:
+        numba.set_num_threads(before)
+    assert all(run == runs[0] for run in runs)
+
+
+def test_paired_and_row_kernels_agree(monkeypatch):
+    """The two exact kernels (pairs once, up to PAIRED_VERTICES; rows in full) agree to rounding."""
+    from dentopo.ariadne import _kernel
+
+    rng = np.random.default_rng(12)
+    points = rng.normal(size=(1500, 3)) * [0.5, 0.3, 0.1]
+    paired = euclidean_moments(points, 0.05, 0.0)
+    monkeypatch.setattr(_kernel, "PAIRED_VERTICES", 100)
+    rows = euclidean_moments(points, 0.05, 0.0)
+    np.testing.assert_array_equal(paired.count, rows.count)
+    np.testing.assert_allclose(paired.weight, rows.weight, rtol=1e-14)
+    for name in ("first", "second"):
+        a, b = getattr(paired, name), getattr(rows, name)
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-14 * np.abs(b).max())
+    assert not np.array_equal(paired.second, rows.second)  # really two code paths
+
+
+def test_paired_kernel_with_far_apart_clusters_equals_brute_force():
+    # blocks out of each other's reach: the pairs kernel skips them, and each
+    # task's columns end where its rows' reach ends
+    rng = np.random.default_rng(13)
+    points = np.concatenate(
+        [rng.normal(size=(400, 3)) * 0.05 + shift for shift in ([0, 0, 0], [5, 0, 0], [0, 7, 0])]
+    )
+    rng.shuffle(points)
+    moments = euclidean_moments(points, 0.05, 0.0)
+    weight, first, second, count = brute_force(points, 0.05, 0.0)
+    np.testing.assert_allclose(moments.weight, weight, rtol=1e-13)
+    np.testing.assert_allclose(moments.first, first, rtol=1e-12, atol=1e-15 * np.abs(first).max())
+    np.testing.assert_allclose(moments.second, second, rtol=1e-12, atol=1e-15 * second.max())
+    np.testing.assert_array_equal(moments.count, count)
+
+
+def test_kernel_table_is_the_inline_exponential_table():
+    from dentopo.ariadne import _kernel
+
+    table = exp_table(kernel_radius(1.0, 5e-324) ** 2)
+    assert len(_kernel.EXP_TABLE) >= len(table)
+    np.testing.assert_array_equal(_kernel.EXP_TABLE[: len(table)], table)
+
+
+def test_kernel_sums_with_uneven_work_equal_brute_force():
+    # a dense cluster and scattered far points: the tasks' rows are cut by their
+    # work, some tasks get few rows or none
+    rng = np.random.default_rng(14)
+    points = np.concatenate([rng.normal(size=(900, 3)) * 0.01, rng.normal(size=(300, 3)) * 50])
+    moments = euclidean_moments(points, 0.08, 0.0)
+    weight, first, second, count = brute_force(points, 0.08, 0.0)
+    np.testing.assert_allclose(moments.weight, weight, rtol=1e-13)
+    np.testing.assert_allclose(moments.first, first, rtol=1e-12, atol=1e-15 * np.abs(first).max())
+    np.testing.assert_allclose(moments.second, second, rtol=1e-12, atol=1e-15 * second.max())
+    np.testing.assert_array_equal(moments.count, count)
+
+
+def test_no_points_no_sums():
+    moments = euclidean_moments(np.zeros((0, 3)), 0.08, 0.0)
+    assert moments.weight.shape == (0,) and moments.second.shape == (0, 3, 3)
+    assert moments.count.shape == (0,)

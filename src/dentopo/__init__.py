@@ -9,58 +9,115 @@ mean slope, OPC, OPCR and RFI are computed as molaR 6.0 computes them
 The package is layered; each subpackage's docstring says what it holds and
 what it may import, and the arrows run one way, from the bottom up:
 ``mesh`` < ``sign`` < ``ariadne`` < ``topography`` < ``figures`` < ``formats``
-< ``batch``, ``report`` < ``study`` < ``cli``.
+< ``batch`` < ``study`` < ``cli``.
 
 >>> from dentopo import ariaDNE
 >>> result = ariaDNE("tooth.ply")             # doctest: +SKIP
 >>> result.dne, result.positive_dne, result.negative_dne  # doctest: +SKIP
 """
 
+from typing import TYPE_CHECKING
+
 from ._version import __version__
-from .ariadne import AriaDNEResult, ariaDNE
-from .batch import compute_batch, find_mesh_files, to_dataframe
-from .figures import (  # pyvista is imported only when a picture is drawn
-    ColorScale,
-    DisplayUnavailableError,
-    color_scale,
-    diverging_rgb,
-    render_bandwidths,
-    render_comparison,
-    render_curvature,
-    render_footprint,
-    render_opc,
-    render_panel,
-    render_slope,
-)
-from .formats import COLUMNS, read_per_vertex, read_table, write_per_vertex, write_table
-from .mesh import load_mesh
-from .report import ReportSummary, write_report
-from .sign import curvature_measure, curvature_measure_sign, measure_radius
-from .study import (
-    BandwidthSweep,
-    RobustnessStudy,
-    bandwidth_sweep,
-    perturb,
-    robustness_study,
-    sign_agreement,
-    write_study,
-    write_sweep,
-)
-from .topography import (
-    AlphaAdjustmentError,
-    ClassicDNEResult,
-    OPCResult,
-    OPCRResult,
-    Orientation,
-    RFIResult,
-    SlopeResult,
-    classic_dne,
-    find_orientation,
-    opc,
-    opcr,
-    rfi,
-    slope,
-)
+
+if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
+    from .ariadne import AriaDNEResult, ariaDNE
+    from .batch import compute_batch, find_mesh_files, to_dataframe
+    from .figures import (  # pyvista is imported only when a picture is drawn
+        ColorScale,
+        DisplayUnavailableError,
+        color_scale,
+        diverging_rgb,
+        render_bandwidths,
+        render_comparison,
+        render_curvature,
+        render_footprint,
+        render_opc,
+        render_panel,
+        render_slope,
+    )
+    from .formats import COLUMNS, read_per_vertex, read_table, write_per_vertex, write_table
+    from .mesh import load_mesh
+    from .report import ReportSummary, write_report
+    from .sign import curvature_measure, curvature_measure_sign, measure_radius
+    from .study import (
+        BandwidthSweep,
+        RobustnessStudy,
+        bandwidth_sweep,
+        perturb,
+        robustness_study,
+        sign_agreement,
+        write_study,
+        write_sweep,
+    )
+    from .topography import (
+        AlphaAdjustmentError,
+        ClassicDNEResult,
+        OPCResult,
+        OPCRResult,
+        Orientation,
+        RFIResult,
+        SlopeResult,
+        classic_dne,
+        find_orientation,
+        opc,
+        opcr,
+        rfi,
+        slope,
+    )
+
+#: Where each public name lives: imported on first use (PEP 562), so that
+#: ``import dentopo`` and ``dentopo --version`` do not load numba, scipy and trimesh.
+_EXPORTS = {
+    "AriaDNEResult": ".ariadne",
+    "ariaDNE": ".ariadne",
+    "compute_batch": ".batch",
+    "find_mesh_files": ".batch",
+    "to_dataframe": ".batch",
+    "ColorScale": ".figures",
+    "DisplayUnavailableError": ".figures",
+    "color_scale": ".figures",
+    "diverging_rgb": ".figures",
+    "render_bandwidths": ".figures",
+    "render_comparison": ".figures",
+    "render_curvature": ".figures",
+    "render_footprint": ".figures",
+    "render_opc": ".figures",
+    "render_panel": ".figures",
+    "render_slope": ".figures",
+    "COLUMNS": ".formats",
+    "read_per_vertex": ".formats",
+    "read_table": ".formats",
+    "write_per_vertex": ".formats",
+    "write_table": ".formats",
+    "load_mesh": ".mesh",
+    "ReportSummary": ".report",
+    "write_report": ".report",
+    "curvature_measure": ".sign",
+    "curvature_measure_sign": ".sign",
+    "measure_radius": ".sign",
+    "BandwidthSweep": ".study",
+    "RobustnessStudy": ".study",
+    "bandwidth_sweep": ".study",
+    "perturb": ".study",
+    "robustness_study": ".study",
+    "sign_agreement": ".study",
+    "write_study": ".study",
+    "write_sweep": ".study",
+    "AlphaAdjustmentError": ".topography",
+    "ClassicDNEResult": ".topography",
+    "OPCResult": ".topography",
+    "OPCRResult": ".topography",
+    "Orientation": ".topography",
+    "RFIResult": ".topography",
+    "SlopeResult": ".topography",
+    "classic_dne": ".topography",
+    "find_orientation": ".topography",
+    "opc": ".topography",
+    "opcr": ".topography",
+    "rfi": ".topography",
+    "slope": ".topography",
+}
 
 __all__ = [
     "COLUMNS",
@@ -113,3 +170,18 @@ __all__ = [
     "write_sweep",
     "write_table",
 ]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'dentopo' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -277,7 +277,7 @@ def _returns_an_array(numba_type) -> bool:
     return False
 
 
-def test_no_compiled_kernel_returns_an_array(tmp_path):
+def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     # the root of the crashes above: whatever numba compiles for dentopo returns
     # nothing or a number, never an array (a new kernel that does fails here)
     import importlib
@@ -297,6 +297,12 @@ def test_no_compiled_kernel_returns_an_array(tmp_path):
     crown = tooth(rings=8)
     for sign_method in ("centroid", "winding", "mean_curvature", "gaussian_curvature"):
         ariaDNE(crown, method="exact", sign_method=sign_method)
+    # the paths of large meshes: each vertex's row in full, the 3 x 3 solves in parallel
+    from dentopo.ariadne import _eigen, _kernel
+
+    monkeypatch.setattr(_kernel, "PAIRED_VERTICES", 0)
+    monkeypatch.setattr(_eigen, "PARALLEL_VERTICES", 0)
+    ariaDNE(crown, method="exact")
     vertices, faces = np.array(crown.vertices), np.array(crown.faces)
     vertices[5] = 1e3  # long triangles, cut into strips
     winding_number(vertices, faces, vertices[:10])

@@ -3,9 +3,9 @@
 In the order ALGORITHM.md gives it: the parameters and their ranges
 (``_parameters``); the kernel-weighted sums over neighbours, exact
 (``_kernel``: Euclidean, geodesic, precomputed) or as a fast Gauss transform
-(``_fastgauss``, FINUFFT); the bending from the weighted covariance and the
-totals (``_ariadne``, the entry point :func:`ariaDNE`); the named result
-(``_result``).
+(``_fastgauss``, FINUFFT); the bending from the weighted covariance (``_eigen``,
+a compiled 3 x 3 eigen-solver) and the totals (``_ariadne``, the entry point
+:func:`ariaDNE`); the named result (``_result``).
 
 May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`.  Nothing from topography,
 figures, formats, batch, study or cli.

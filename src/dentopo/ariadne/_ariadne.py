@@ -15,7 +15,7 @@ import numpy as np
 
 from ..mesh import prepare
 from ..sign import check_sign_method, convex_vertices
-from . import _fastgauss, _kernel
+from . import _eigen, _fastgauss, _kernel
 from ._parameters import check_bandwidth, check_cutoff
 from ._result import AriaDNEResult
 
@@ -54,13 +54,10 @@ def unsigned_bending(covariance: np.ndarray, normals: np.ndarray) -> np.ndarray:
 
     ``lambda`` is the eigenvalue whose eigenvector is closest in direction (up
     to sign) to the vertex normal.  A zero covariance (an isolated vertex) gives 0.
+    The compiled 3 x 3 solver of ``_eigen`` (``numpy.linalg.eigh`` agrees with
+    it to rounding error).
     """
-    values, vectors = np.linalg.eigh(covariance)
-    closeness = np.abs(np.einsum("nij,ni->nj", vectors, normals))
-    pick = np.argmax(closeness, axis=1)
-    lam = np.take_along_axis(values, pick[:, None], axis=1)[:, 0]
-    trace = values.sum(axis=1)
-    return np.divide(lam, trace, out=np.zeros_like(lam), where=trace > 0)
+    return _eigen.bending(covariance, normals)
 
 
 def ariaDNE(  # noqa: N802 -- the paper's name

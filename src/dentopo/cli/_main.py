@@ -12,8 +12,8 @@ import sys
 from collections.abc import Callable
 
 from .._optional import MissingExtraError
-from ._compute import compute_main
-from ._progress import say
+from .._version import __version__
+from ._progress import PROG, say
 
 # ``dentopo NAME ARGS...`` runs ``SUBCOMMANDS[NAME](ARGS)`` and exits with the integer it
 # returns.  A value is a callable ``f(argv: list[str]) -> int`` or, better, a lazy
@@ -37,9 +37,14 @@ def _run_subcommand(name: str, argv: list[str]) -> int:
 def main(argv: list[str] | None = None) -> int:
     """Run the ``dentopo`` command with `argv` (default ``sys.argv[1:]``); the exit code."""
     argv = list(sys.argv[1:] if argv is None else argv)
+    if argv == ["--version"]:  # as the main command's parser says it, without loading it
+        print(f"{PROG} {__version__}")
+        return 0
     try:
         if argv and argv[0] in SUBCOMMANDS:
             return _run_subcommand(argv[0], argv[1:])
+        from ._compute import compute_main  # numba, scipy, trimesh: only when there is work
+
         return compute_main(argv, tuple(SUBCOMMANDS))
     except MissingExtraError as exc:  # wherever it is found: one line naming the extra
         say(str(exc))

@@ -73,6 +73,21 @@ def _may_have_small_holes(faces: np.ndarray, n_vertices: int) -> bool:
     return bool(np.any((loop_size > 0) & (loop_size < 5)))
 
 
+def _all_unique_and_referenced(faces: np.ndarray, n_vertices: int) -> bool:
+    """No two faces on the same three vertices, and every vertex in a face.
+
+    Then trimesh's duplicate-face and unreferenced-vertex removal would change
+    nothing, and are skipped (they cost more than the check on a small mesh).
+    """
+    if n_vertices >= 2**21 or np.bincount(faces.ravel(), minlength=n_vertices).min() == 0:
+        return False  # no exact key below, or a vertex in no face
+    corners = faces.astype(np.int64)
+    low, high = corners.min(axis=1), corners.max(axis=1)
+    middle = corners.sum(axis=1) - low - high
+    key = np.sort((low * n_vertices + middle) * n_vertices + high)
+    return not np.any(key[1:] == key[:-1])
+
+
 def clean(vertices, faces) -> trimesh.Trimesh:
     """Clean a mesh as the published computation does, on a private copy.
 
@@ -95,11 +110,14 @@ def _clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
     """:func:`clean` for arrays that :func:`as_arrays` has validated."""
     scale = length_scale(vertices, faces)
     mesh = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
-    if _may_have_small_holes(faces, len(vertices)):
+    filled = _may_have_small_holes(faces, len(vertices))
+    if filled:
         mesh.fill_holes()
-    mesh.update_faces(nondegenerate_faces(mesh.vertices, mesh.faces, scale=scale))
-    mesh.update_faces(mesh.unique_faces())
-    mesh.remove_unreferenced_vertices()
+    keep = nondegenerate_faces(mesh.vertices, mesh.faces, scale=scale)
+    if filled or not (keep.all() and _all_unique_and_referenced(faces, len(vertices))):
+        mesh.update_faces(keep)
+        mesh.update_faces(mesh.unique_faces())
+        mesh.remove_unreferenced_vertices()
     if len(mesh.faces) == 0:
         raise ValueError("cleaning left the mesh empty: every face is degenerate")
     if len(mesh.vertices) < 4:
@@ -107,20 +125,31 @@ def _clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
     return mesh
 
 
-def vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """One third of the total area of the faces around each vertex, shape (n,)."""
+def _face_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Each face's ``(b - a) x (c - a)``: twice its area times its unit normal."""
     tri = vertices[faces]
-    face_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+
+
+def vertex_areas(vertices: np.ndarray, faces: np.ndarray, *, cross=None) -> np.ndarray:
+    """One third of the total area of the faces around each vertex, shape (n,).
+
+    `cross` is ``_face_cross(vertices, faces)`` if the caller has it already.
+    """
+    cross = _face_cross(vertices, faces) if cross is None else cross
+    face_area = 0.5 * np.linalg.norm(cross, axis=1)
     # bincount adds in input order, as np.add.at does (same rounding), but fast
     return np.bincount(
         faces.ravel(), weights=np.repeat(face_area / 3.0, 3), minlength=len(vertices)
     )
 
 
-def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Unit vertex normals: normalised sum of the unit normals of incident faces."""
-    tri = vertices[faces]
-    face_normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+def vertex_normals(vertices: np.ndarray, faces: np.ndarray, *, cross=None) -> np.ndarray:
+    """Unit vertex normals: normalised sum of the unit normals of incident faces.
+
+    `cross` is ``_face_cross(vertices, faces)`` if the caller has it already.
+    """
+    face_normal = _face_cross(vertices, faces) if cross is None else cross
     length = np.linalg.norm(face_normal, axis=1, keepdims=True)
     face_normal = np.divide(face_normal, length, out=np.zeros_like(face_normal), where=length > 0)
     # the three corners in turn, each in face order: the order np.add.at would add in
@@ -142,7 +171,8 @@ def prepare(mesh) -> PreparedMesh:
     v = np.asarray(cleaned.vertices, dtype=np.float64)
     # vertex normals need neighbouring faces to agree; a no-op for consistent meshes
     f = orient_consistently(np.asarray(cleaned.faces, dtype=np.int64), len(v))
-    area_raw = vertex_areas(v, f)
+    cross = _face_cross(v, f)
+    area_raw = vertex_areas(v, f, cross=cross)
     total = float(area_raw.sum())
     if not total > 0:
         raise ValueError("the mesh has zero surface area")
@@ -153,6 +183,6 @@ def prepare(mesh) -> PreparedMesh:
         points=points,
         vertex_area_raw=area_raw,
         vertex_area=area_raw / total,
-        normals=vertex_normals(v, f),
+        normals=vertex_normals(v, f, cross=cross),
         scale=float(scale),
     )

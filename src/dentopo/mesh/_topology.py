@@ -24,7 +24,7 @@ from scipy.sparse.csgraph import connected_components
 
 def _directed_edges(faces: np.ndarray) -> np.ndarray:
     faces = np.asarray(faces)
-    return np.stack([faces.T.ravel(), np.roll(faces, -1, axis=1).T.ravel()], axis=1)
+    return np.stack([faces.T.ravel(), faces[:, [1, 2, 0]].T.ravel()], axis=1)
 
 
 def _edge_keys(edges: np.ndarray, n: int) -> np.ndarray:
@@ -101,8 +101,10 @@ def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
 def boundary_edges(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     """Directed edges (as they run in their face) that no other face shares, shape (k, 2)."""
     directed = _directed_edges(faces)
-    key = _edge_keys(np.sort(directed, axis=1), n_vertices)
-    order = np.argsort(key, kind="stable")
+    low = np.minimum(directed[:, 0], directed[:, 1])
+    high = np.maximum(directed[:, 0], directed[:, 1])
+    key = low.astype(np.int64) * n_vertices + high  # as _edge_keys of the sorted rows
+    order = np.argsort(key)  # not stable: only keys that occur once are kept, in edge order
     sorted_key = key[order]
     differs = sorted_key[1:] != sorted_key[:-1]
     alone = np.r_[True, differs] & np.r_[differs, True]  # a key that occurs once
