@@ -192,10 +192,31 @@ class _Typesetter:
 # 3D views
 
 
+#: 3D views are rendered this many times larger in each direction, then averaged down
+#: (anti-aliasing that keeps line widths, unlike VTK's SSAA pass).
+SUPERSAMPLE = 2
+
+
+def _downsample(image: np.ndarray, factor: int) -> np.ndarray:
+    """Average `factor` x `factor` blocks of an RGBA image, colours weighted by their alpha."""
+    h, w = image.shape[0] // factor, image.shape[1] // factor
+    blocks = image[: h * factor, : w * factor].astype(np.float64)
+    blocks = blocks.reshape(h, factor, w, factor, 4)
+    alpha = blocks[..., 3:4]
+    weight = alpha.sum(axis=(1, 3))
+    rgb = (blocks[..., :3] * alpha).sum(axis=(1, 3))
+    rgb = np.divide(rgb, weight, out=np.full_like(rgb, 255.0), where=weight > 0)
+    out = np.concatenate([rgb, weight / factor**2], axis=2)
+    return np.clip(np.round(out), 0, 255).astype(np.uint8)
+
+
 def render_view(panel: Panel, width: int, height: int, *, dpi: float, transparent: bool):
     """The panel's 3D view as an (height, width, 4) uint8 RGBA image (alpha 0 off the mesh)."""
     pv = PICTURES.require()
-    plotter = pv.Plotter(off_screen=True, window_size=[width, height], lighting="none")
+    factor = SUPERSAMPLE if max(width, height) * SUPERSAMPLE <= 16384 else 1
+    plotter = pv.Plotter(
+        off_screen=True, window_size=[width * factor, height * factor], lighting="none"
+    )
     try:
         plotter.set_background("white")
         plotter.add_light(pv.Light(light_type="headlight"))
@@ -222,7 +243,7 @@ def render_view(panel: Panel, width: int, height: int, *, dpi: float, transparen
             plotter.add_mesh(
                 pv.PolyData(ends, lines=cells.ravel()),
                 color=[c / 255 for c in panel.line_rgb],
-                line_width=max(1.0, panel.line_points * dpi / 72.0),
+                line_width=max(1.0, panel.line_points * dpi / 72.0) * factor,
                 lighting=False,
                 show_scalar_bar=False,
             )
@@ -234,11 +255,10 @@ def render_view(panel: Panel, width: int, height: int, *, dpi: float, transparen
         plotter.camera.up = camera.up
         plotter.camera.parallel_scale = camera.half_extent(points, width / height, VIEW_MARGIN)
         plotter.renderer.reset_camera_clipping_range()
-        plotter.enable_anti_aliasing("ssaa")
         image = plotter.screenshot(transparent_background=True, return_img=True)
     finally:
         plotter.close()
-    image = np.asarray(image, dtype=np.uint8)
+    image = _downsample(np.asarray(image, dtype=np.uint8), factor)
     if not transparent:  # on white, as the figure
         alpha = image[..., 3:4] / 255.0
         rgb = np.round(image[..., :3] * alpha + 255.0 * (1.0 - alpha)).astype(np.uint8)
@@ -312,13 +332,18 @@ def compose(
     cols, rows = _grid(len(panels))
     cell_w = (inner - (cols - 1) * gap) / cols
     cell_h = (top - bottom - (rows - 1) * gap) / rows
-    fitted = []
-    for panel in panels:
-        words = "\n".join(t for t in (panel.label, panel.caption) if t)
-        fitted.append(typeset.fit(words, cell_w, points) if words else ("", points))
-    text_h = max(typeset.height(w, s) for w, s in fitted)
-    view_h = math.floor(cell_h - text_h - (gap if text_h else 0))
     view_w = math.floor(cell_w)
+    size_p = points
+    while True:  # the panels' texts take at most 40 % of a cell's height: smaller, if need be
+        fitted = []
+        for panel in panels:
+            words = "\n".join(t for t in (panel.label, panel.caption) if t)
+            fitted.append(typeset.fit(words, cell_w, size_p) if words else ("", size_p))
+        text_h = max(typeset.height(w, s) for w, s in fitted)
+        view_h = math.floor(cell_h - text_h - (gap if text_h else 0))
+        if text_h <= 0.4 * cell_h or size_p <= MIN_POINTS:
+            break
+        size_p = max(MIN_POINTS, size_p - 0.5)
     if view_h < 16 or view_w < 16:
         raise ValueError(
             f"the picture ({width} x {height} pixels at {dpi:g} dpi) is too small for its texts: "

@@ -88,7 +88,7 @@ def _default_label(mesh) -> str:
 def _totals(result) -> str:
     return (
         f"DNE {result.dne:.4g} = {result.positive_dne:.4g} (+) + {result.negative_dne:.4g} (\u2212)"
-        f"   h = {result.bandwidth:g}"
+        f"\nh = {result.bandwidth:g}"
     )
 
 
