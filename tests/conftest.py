@@ -151,6 +151,14 @@ def layout_problems(layout) -> list[str]:
     return problems
 
 
+def view_region(layout, image: np.ndarray, index: int = 0) -> np.ndarray:
+    """The pixels of the saved picture `image` inside the layout's 3D view `index`."""
+    box = layout.views[index].get_window_extent(layout.figure.canvas.get_renderer())
+    height = image.shape[0]
+    rows = slice(round(height - box.y1), round(height - box.y0))
+    return image[rows, round(box.x0) : round(box.x1)]
+
+
 def meshes_outside_their_frames(layout, image: np.ndarray, margin: float = 0.02) -> list[str]:
     """Views whose mesh pixels (not white, or not transparent) come within `margin` of the edge.
 
@@ -161,8 +169,8 @@ def meshes_outside_their_frames(layout, image: np.ndarray, margin: float = 0.02)
     problems = []
     for index, axes in enumerate(layout.views):
         box = axes.get_window_extent(renderer)
-        rows = slice(int(round(height - box.y1)), int(round(height - box.y0)))
-        cols = slice(int(round(box.x0)), int(round(box.x1)))
+        rows = slice(round(height - box.y1), round(height - box.y0))
+        cols = slice(round(box.x0), round(box.x1))
         region = image[rows, cols]
         if image.shape[2] == 4 and (image[..., 3] < 255).any():  # a transparent background
             mesh = region[..., 3] > 0
@@ -180,5 +188,8 @@ def meshes_outside_their_frames(layout, image: np.ndarray, margin: float = 0.02)
             and c.max() < (1 - margin) * w
         )
         if not inside:
-            problems.append(f"view {index}: mesh rows {r.min()}-{r.max()} of {h}, cols {c.min()}-{c.max()} of {w}")
+            problems.append(
+                f"view {index}: mesh rows {r.min()}-{r.max()} of {h}, "
+                f"cols {c.min()}-{c.max()} of {w}"
+            )
     return problems

@@ -151,15 +151,22 @@ def _gradient(stops) -> str:
 
 
 def _diverging_bar(scale: ColorScale, title: str, legend: str) -> str:
+    """The colour bar of a signed field, as in the pictures: title, bar, five ticks, the rule."""
     t = np.linspace(-1, 1, 21)
     rgb = np.round(255 * diverging_rgb(t)).astype(int)
     low, high = scale.limits
+    ticks = [
+        "0" if p == 0.5 else f"{low + p * (high - low):.3g}".replace("-", "\u2212")
+        for p in np.linspace(0, 1, 5)
+    ]
+    heading = f"{title} ({legend})" if legend else title
+    spans = "".join(f"<span>{html_escape.escape(tick)}</span>" for tick in ticks)
     return (
-        f'<div id="rule">{html_escape.escape(title)} &nbsp; {html_escape.escape(scale.rule)}'
-        f" &nbsp; {html_escape.escape(legend)}</div>\n"
+        f'<div id="rule">{html_escape.escape(heading)}</div>\n'
         f'<div id="gradient" style="background: linear-gradient(to right, '
         f'{_gradient(zip((t + 1) / 2, rgb, strict=True))})"></div>\n'
-        f'<div id="ticks"><span>{low:.3g}</span><span>0</span><span>{high:.3g}</span></div>'
+        f'<div id="ticks">{spans}</div>\n'
+        f'<div id="note">limits {html_escape.escape(scale.rule)}</div>'
     )
 
 
@@ -226,7 +233,7 @@ body { display: flex; flex-direction: column; }
   display: flex; flex-direction: column; }
 .cell canvas { flex: 1; width: 100%; min-height: 0; display: block; touch-action: none;
   cursor: grab; }
-.text { padding: 2px 6px; white-space: pre-wrap; overflow-wrap: anywhere;
+.text { padding: 2px 6px; box-sizing: border-box; white-space: pre-wrap; overflow-wrap: anywhere;
   font-size: clamp(10px, 1.6vw, 14px); line-height: 1.3; pointer-events: none; }
 #bar { padding: 6px 4% 10px; max-width: 900px; width: 92%; margin: 0 auto;
   box-sizing: border-box; }
@@ -475,7 +482,7 @@ _SCRIPT = r"""
     const text = document.createElement("div");
     cell.className = "cell"; text.className = "text";
     text.textContent = [raw.label, raw.caption].filter(Boolean).join("\n");
-    if (text.textContent) cell.appendChild(text);
+    if (data.meshes.some(function (r) { return r.label || r.caption; })) cell.appendChild(text);
     cell.appendChild(canvas); panels.appendChild(cell);
     const view = (force2d ? null : webglView(canvas, m)) || canvasView(canvas, m);
     view.canvas = canvas;
@@ -500,6 +507,11 @@ _SCRIPT = r"""
   });
   function resize() {
     const ratio = window.devicePixelRatio || 1;
+    const texts = panels.querySelectorAll(".text");  // one height: the meshes line up
+    texts.forEach(function (t) { t.style.minHeight = ""; });
+    let tallest = 0;
+    texts.forEach(function (t) { tallest = Math.max(tallest, t.offsetHeight); });
+    texts.forEach(function (t) { t.style.minHeight = tallest + "px"; });
     state.views.forEach(function (v) {
       v.canvas.width = Math.max(1, Math.round(v.canvas.clientWidth * ratio));
       v.canvas.height = Math.max(1, Math.round(v.canvas.clientHeight * ratio));
