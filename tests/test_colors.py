@@ -49,10 +49,22 @@ def test_fixed_limits_accept_a_number_or_a_symmetric_pair():
     assert "fixed" in color_scale(limits=0.2).rule
 
 
-@pytest.mark.parametrize("limits", [(-0.1, 0.3), 0.0, -1.0, float("nan")])
-def test_asymmetric_or_bad_limits_are_refused(limits):
+@pytest.mark.parametrize("limits", [(0.1, 0.3), (-0.3, -0.1), (-0.1, 0.0), 0.0, -1.0, float("nan")])
+def test_limits_without_zero_inside_or_bad_are_refused(limits):
     with pytest.raises(ValueError, match="limit"):
         color_scale(limits=limits)
+
+
+def test_asymmetric_limits_keep_zero_neutral_and_reach_both_ends():
+    scale = color_scale(limits=(-0.1, 0.3))
+    assert scale.limits == (-0.1, 0.3) and "fixed" in scale.rule
+    np.testing.assert_array_equal(scale.rgb([-0.1, 0.3]), color_scale(limits=1).rgb([-1, 1]))
+    np.testing.assert_array_equal(scale.rgb([0.0]), color_scale(limits=1).rgb([0.0]))
+    np.testing.assert_allclose(scale.normalize([-0.05, 0.15, -1.0, 1.0]), [-0.5, 0.5, -1, 1])
+    # the bar runs linearly in value: zero sits a quarter of the way along
+    assert scale.position(0.0) == pytest.approx(0.25)
+    np.testing.assert_allclose(scale.bar_rgb(0.25), np.asarray(NEUTRAL))
+    assert color_scale(limits=(-0.2, 0.2)).low is None  # a symmetric pair is symmetric
 
 
 def test_zero_field_gets_a_unit_scale_and_renders_neutral():

@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 import sys
 
+import numpy as np
 import pytest
 
 from dentopo.cli import main
@@ -48,11 +49,25 @@ def test_visualize_without_display_says_so(monkeypatch, capsys, tooth_ply):
     assert "no display" in capsys.readouterr().err
 
 
-def test_asymmetric_limits_are_refused(tmp_path, capsys, tooth_ply):
+def test_limits_without_zero_inside_are_refused(tmp_path, capsys, tooth_ply):
     png = tmp_path / "x.png"
-    assert main([tooth_ply, "--screenshot", str(png), "--limits", "-0.1", "0.3"]) == 2
-    assert "symmetric" in capsys.readouterr().err
+    assert main([tooth_ply, "--screenshot", str(png), "--limits", "0.1", "0.3"]) == 2
+    assert "zero strictly inside" in capsys.readouterr().err
     assert not png.exists()
+
+
+def test_asymmetric_limits_are_honoured_in_picture_page_and_per_vertex_colours(tmp_path, tooth_ply):
+    png, page, pv = tmp_path / "t.png", tmp_path / "t.html", tmp_path / "pv"
+    argv = [tooth_ply, "--screenshot", str(png), "--html", str(page), "--per-vertex", str(pv)]
+    assert main([*argv, "--per-vertex-format", "npz", "--limits", "-0.1", "0.3", "-q"]) == 0
+    assert read_provenance(png)["parameters"]["limits"] == [-0.1, 0.3]
+    assert read_provenance(page)["parameters"]["limits"] == [-0.1, 0.3]
+    assert "\\u22120.1" in page.read_text() and "0.3 (fixed)" in page.read_text()
+    from dentopo.figures import color_scale
+
+    with np.load(pv / "tooth.dentopo.npz") as data:
+        k, colours = data["local_curvature"], data["colors"]
+    np.testing.assert_array_equal(colours, color_scale(limits=(-0.1, 0.3)).rgb(k))
 
 
 def test_picture_options(tmp_path, tooth_ply):

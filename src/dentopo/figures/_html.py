@@ -21,7 +21,7 @@ import numpy as np
 
 from . import _provenance
 from ._camera import DEFAULT_VIEW, camera_for
-from ._colors import ColorScale, diverging_rgb
+from ._colors import ColorScale
 from ._layout import write_bytes
 
 
@@ -151,21 +151,21 @@ def _gradient(stops) -> str:
 
 
 def _diverging_bar(scale: ColorScale, title: str, legend: str) -> str:
-    """The colour bar of a signed field, as in the pictures: title, bar, five ticks, the rule."""
-    t = np.linspace(-1, 1, 21)
-    rgb = np.round(255 * diverging_rgb(t)).astype(int)
+    """The colour bar of a signed field, as in the pictures: title, bar, ticks, the rule."""
+    t = np.linspace(0, 1, 41)
+    rgb = np.round(255 * scale.bar_rgb(t)).astype(int)
     low, high = scale.limits
-    ticks = [
-        "0" if p == 0.5 else f"{low + p * (high - low):.3g}".replace("-", "\u2212")
-        for p in np.linspace(0, 1, 5)
-    ]
     heading = f"{title} ({legend})" if legend else title
-    spans = "".join(f"<span>{html_escape.escape(tick)}</span>" for tick in ticks)
+    spans = "".join(
+        f'<span style="left: {100 * float(scale.position(v)):.2f}%">'
+        f"{html_escape.escape('0' if v == 0 else f'{v:.3g}'.replace('-', chr(0x2212)))}</span>"
+        for v in (low, low / 2, 0.0, high / 2, high)
+    )
     return (
         f'<div id="rule">{html_escape.escape(heading)}</div>\n'
         f'<div id="gradient" style="background: linear-gradient(to right, '
-        f'{_gradient(zip((t + 1) / 2, rgb, strict=True))})"></div>\n'
-        f'<div id="ticks">{spans}</div>\n'
+        f'{_gradient(zip(t, rgb, strict=True))})"></div>\n'
+        f'<div id="ticks" class="placed">{spans}</div>\n'
         f'<div id="note">limits {html_escape.escape(scale.rule)}</div>'
     )
 
@@ -237,9 +237,11 @@ body { display: flex; flex-direction: column; }
   font-size: clamp(10px, 1.6vw, 14px); line-height: 1.3; pointer-events: none; }
 #bar { padding: 6px 4% 10px; max-width: 900px; width: 92%; margin: 0 auto;
   box-sizing: border-box; }
-#gradient { height: 16px; border: 1px solid #444; }
-#ticks { display: flex; justify-content: space-between; gap: 4px; }
+#gradient { height: 16px; border: 1px solid #444; margin: 0 2em; }
+#ticks { display: flex; justify-content: space-between; gap: 4px; margin: 0 2em; }
 #ticks span { min-width: 0; overflow-wrap: anywhere; }
+#ticks.placed { position: relative; display: block; height: 1.4em; margin: 0 2em; }
+#ticks.placed span { position: absolute; transform: translateX(-50%); white-space: nowrap; }
 #rule, #note { text-align: center; overflow-wrap: anywhere; }
 #swatches { display: flex; flex-wrap: wrap; justify-content: center; gap: 4px 16px; }
 .entry { max-width: 100%; overflow-wrap: anywhere; }

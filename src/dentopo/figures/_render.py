@@ -195,7 +195,7 @@ def _plotter(
     )
     plotter.set_background(_BACKGROUND)
     table = pv.LookupTable()
-    table.values = lookup_table()
+    table.values = lookup_table(scale=scale)
     table.scalar_range = scale.limits
     mapper = None
     for index, item in enumerate(items):
@@ -263,13 +263,12 @@ def _signed(value: float) -> str:
 
 
 def diverging_bar(scale: ColorScale, title: str, legend: str) -> ColorBar:
-    """The colour bar of a signed field: five ticks from -L to L, the rule under it."""
+    """The colour bar of a signed field: ticks at the limits, halfway and zero; the rule below."""
     low, high = scale.limits
-    ticks = [
-        (p, _signed(low + p * (high - low)) if p != 0.5 else "0") for p in np.linspace(0, 1, 5)
-    ]
+    values = [low, low / 2, 0.0, high / 2, high]
+    ticks = [(float(scale.position(v)), "0" if v == 0 else _signed(v)) for v in values]
     return ColorBar(
-        lambda t: diverging_rgb(2.0 * np.asarray(t) - 1.0),
+        scale.bar_rgb,
         ticks,
         title=f"{title} ({legend})" if legend else title,
         note=f"limits {scale.rule}",
@@ -431,7 +430,7 @@ def render_curvature(
     """Draw one mesh coloured by its signed curvature.
 
     Red is convex (positive), blue concave (negative), neutral grey exactly
-    zero; limits are symmetric about zero.  The picture has a labelled colour
+    zero; limits are symmetric about zero unless given.  The picture has a labelled colour
     bar stating the limit rule and a caption with the totals.
 
     Parameters
@@ -446,9 +445,10 @@ def render_curvature(
         What to colour by.  An array gives one value per vertex of
         ``result.mesh`` (or of `mesh` as given, when `result` is None).
     limits : float or (float, float), optional
-        Fixed colour limits ``L`` or ``(-L, L)`` (share them across
-        specimens to compare them on one scale).  Default: the `percentile`
-        of ``|value|``.
+        Fixed colour limits ``L`` for ``(-L, L)``, or ``(LO, HI)`` with
+        ``LO < 0 < HI`` (zero stays neutral; share them across specimens to
+        compare them on one scale).  Default: ``±`` the `percentile` of
+        ``|value|``.
     percentile : float, default 98.0
         Percentile of ``|value|`` used as the limit when `limits` is None.
     view : str or (3, 3), default "occlusal"
