@@ -62,7 +62,7 @@ def test_asymmetric_limits_are_honoured_in_picture_page_and_per_vertex_colours(t
     assert main([*argv, "--per-vertex-format", "npz", "--limits", "-0.1", "0.3", "-q"]) == 0
     assert read_provenance(png)["parameters"]["limits"] == [-0.1, 0.3]
     assert read_provenance(page)["parameters"]["limits"] == [-0.1, 0.3]
-    assert "\\u22120.1" in page.read_text() and "0.3 (fixed)" in page.read_text()
+    assert "\u22120.1" in page.read_text() and "0.3 (fixed)" in page.read_text()
     from dentopo.figures import color_scale
 
     with np.load(pv / "tooth.dentopo.npz") as data:
