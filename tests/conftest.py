@@ -193,3 +193,29 @@ def meshes_outside_their_frames(layout, image: np.ndarray, margin: float = 0.02)
                 f"cols {c.min()}-{c.max()} of {w}"
             )
     return problems
+
+
+#: Appended to a copy of a page: marks in the DOM every text box whose content is wider
+#: than the box, or that reaches outside its panel or the window.
+OVERFLOW_CHECK = """
+<script>
+(function () {
+  const bad = [];
+  const inside = function (a, b) {
+    return a.left >= b.left - 1 && a.right <= b.right + 1 && a.top >= b.top - 1 &&
+      a.bottom <= b.bottom + 1;
+  };
+  const page = { left: 0, top: 0, right: window.innerWidth, bottom: window.innerHeight };
+  document.querySelectorAll(".text, #rule, #note, #ticks span, .entry").forEach(function (el) {
+    const box = el.getBoundingClientRect();
+    const cell = el.closest(".cell");
+    const wide = el.scrollWidth > el.clientWidth + 1 && el.clientWidth > 0;
+    if (wide) bad.push("wide:" + el.textContent);
+    if (cell && !inside(box, cell.getBoundingClientRect())) bad.push("cell:" + el.textContent);
+    if (!inside(box, page)) bad.push("page:" + el.textContent);
+  });
+  document.body.setAttribute("data-checked", String(document.querySelectorAll(".text").length));
+  document.body.setAttribute("data-overflow", JSON.stringify(bad));
+})();
+</script>
+"""

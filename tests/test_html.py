@@ -25,6 +25,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from conftest import OVERFLOW_CHECK
 from dentopo import ariaDNE, render_curvature, render_panel
 
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read screenshots")
@@ -137,31 +138,6 @@ def test_panel_page_has_one_canvas_per_mesh(tmp_path, tooth):
 
 # ---------------------------------------------------------------------------
 # captions stay inside their boxes, at any window size
-
-#: Appended to a copy of a page: marks in the DOM every text box whose content is wider
-#: than the box, or that reaches outside its panel or the window.
-OVERFLOW_CHECK = """
-<script>
-(function () {
-  const bad = [];
-  const inside = function (a, b) {
-    return a.left >= b.left - 1 && a.right <= b.right + 1 && a.top >= b.top - 1 &&
-      a.bottom <= b.bottom + 1;
-  };
-  const page = { left: 0, top: 0, right: window.innerWidth, bottom: window.innerHeight };
-  document.querySelectorAll(".text, #rule, #note, #ticks span, .entry").forEach(function (el) {
-    const box = el.getBoundingClientRect();
-    const cell = el.closest(".cell");
-    const wide = el.scrollWidth > el.clientWidth + 1 && el.clientWidth > 0;
-    if (wide) bad.push("wide:" + el.textContent);
-    if (cell && !inside(box, cell.getBoundingClientRect())) bad.push("cell:" + el.textContent);
-    if (!inside(box, page)) bad.push("page:" + el.textContent);
-  });
-  document.body.setAttribute("data-checked", String(document.querySelectorAll(".text").length));
-  document.body.setAttribute("data-overflow", JSON.stringify(bad));
-})();
-</script>
-"""
 
 
 @pytest.mark.parametrize("size", ["480,480", "1400,900"])

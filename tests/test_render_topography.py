@@ -25,7 +25,13 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull
 
-from conftest import capture_layouts, layout_problems, meshes_outside_their_frames, view_region
+from conftest import (
+    OVERFLOW_CHECK,
+    capture_layouts,
+    layout_problems,
+    meshes_outside_their_frames,
+    view_region,
+)
 from dentopo._optional import MissingExtraError
 from dentopo.figures import (
     OPC_COLORS,
@@ -326,6 +332,36 @@ def test_opc_page_shows_the_bins_and_borders_in_a_browser(tmp_path, inputs, mode
     drawing = read_png(shot)[30:560]  # above the legend
     assert min(hue_counts(drawing, OPC_COLORS)) > 50
     assert (drawing.max(axis=2) < 70).sum() > 200  # the borders
+
+
+@needs_chromium
+@pytest.mark.parametrize("width", [420, 1200])
+def test_opc_page_legend_stays_in_its_box(tmp_path, inputs, width):
+    mesh, _, face_bin, face_patch, _ = inputs
+    page = tmp_path / "opc.html"
+    render_opc(mesh, face_bin, face_patch, html=page, title="a_long_specimen_name_without_spaces")
+    checked = tmp_path / "checked.html"
+    checked.write_text(page.read_text().replace("</body>", OVERFLOW_CHECK + "</body>"))
+    dom = subprocess.run(
+        [
+            CHROMIUM,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--host-resolver-rules=MAP * ~NOTFOUND",
+            f"--user-data-dir={tmp_path / 'profile'}",
+            f"--window-size={width},700",
+            "--dump-dom",
+            checked.as_uri(),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=True,
+    ).stdout
+    assert 'data-checked="1"' in dom
+    assert re.search(r'data-overflow="([^"]*)"', dom).group(1) == "[]"
 
 
 # ---------------------------------------------------------------------------

@@ -559,7 +559,7 @@ def render_panel(
     azimuth, elevation, dpi, transparent
         As in :func:`render_curvature`; each mesh gets its own occlusal view.
     window_size : (int, int), optional
-        Default: 400 x 400 pixels per mesh, plus the colour bar.
+        Default: 400 x 400 pixels per mesh, and 200 pixels for the legend.
     title : str, optional
         Shown before the field name on the colour bar.
     legend : str, optional
@@ -615,7 +615,7 @@ def render_panel(
     if window_size is None:
         cols = len(drawn) if len(drawn) <= 4 else int(np.ceil(np.sqrt(len(drawn))))
         rows = int(np.ceil(len(drawn) / cols))
-        window_size = (400 * cols, 400 * rows + 120)
+        window_size = (400 * cols, 400 * rows + 200)
     _draw(
         drawn,
         field=field if isinstance(field, str) else None,
