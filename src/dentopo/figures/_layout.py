@@ -192,28 +192,31 @@ class _Typesetter:
 # 3D views
 
 
-#: 3D views are rendered this many times larger in each direction, then averaged down
-#: (anti-aliasing that keeps line widths, unlike VTK's SSAA pass).
-SUPERSAMPLE = 2
+#: 3D views up to this many pixels wide and high are rendered twice as large in each
+#: direction, then averaged down: anti-aliasing that keeps line widths, unlike VTK's SSAA
+#: pass.  Larger views have pixels small enough not to need it.
+SUPERSAMPLE_UP_TO = 2048
 
 
-def _downsample(image: np.ndarray, factor: int) -> np.ndarray:
-    """Average `factor` x `factor` blocks of an RGBA image, colours weighted by their alpha."""
-    h, w = image.shape[0] // factor, image.shape[1] // factor
-    blocks = image[: h * factor, : w * factor].astype(np.float64)
-    blocks = blocks.reshape(h, factor, w, factor, 4)
-    alpha = blocks[..., 3:4]
-    weight = alpha.sum(axis=(1, 3))
-    rgb = (blocks[..., :3] * alpha).sum(axis=(1, 3))
-    rgb = np.divide(rgb, weight, out=np.full_like(rgb, 255.0), where=weight > 0)
-    out = np.concatenate([rgb, weight / factor**2], axis=2)
-    return np.clip(np.round(out), 0, 255).astype(np.uint8)
+def _downsample(image: np.ndarray) -> np.ndarray:
+    """Average 2 x 2 blocks of an RGBA image, colours weighted by their alpha."""
+    h, w = image.shape[0] // 2, image.shape[1] // 2
+    quarters = [
+        image[i : 2 * h : 2, j : 2 * w : 2].astype(np.uint32) for i in (0, 1) for j in (0, 1)
+    ]
+    weight = sum(q[..., 3] for q in quarters)
+    rgb = sum(q[..., :3] * q[..., 3:4] for q in quarters)
+    out = np.empty((h, w, 4), dtype=np.uint8)
+    safe = np.maximum(weight, 1)[..., None]
+    out[..., :3] = np.where(weight[..., None] > 0, (rgb + safe // 2) // safe, 255)
+    out[..., 3] = (weight + 2) // 4
+    return out
 
 
 def render_view(panel: Panel, width: int, height: int, *, dpi: float, transparent: bool):
     """The panel's 3D view as an (height, width, 4) uint8 RGBA image (alpha 0 off the mesh)."""
     pv = PICTURES.require()
-    factor = SUPERSAMPLE if max(width, height) * SUPERSAMPLE <= 16384 else 1
+    factor = 2 if max(width, height) <= SUPERSAMPLE_UP_TO else 1
     plotter = pv.Plotter(
         off_screen=True, window_size=[width * factor, height * factor], lighting="none"
     )
@@ -258,7 +261,9 @@ def render_view(panel: Panel, width: int, height: int, *, dpi: float, transparen
         image = plotter.screenshot(transparent_background=True, return_img=True)
     finally:
         plotter.close()
-    image = _downsample(np.asarray(image, dtype=np.uint8), factor)
+    image = np.asarray(image, dtype=np.uint8)
+    if factor == 2:
+        image = _downsample(image)
     if not transparent:  # on white, as the figure
         alpha = image[..., 3:4] / 255.0
         rgb = np.round(image[..., :3] * alpha + 255.0 * (1.0 - alpha)).astype(np.uint8)
