@@ -652,7 +652,7 @@ def render_bandwidths(
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
         The mesh.  Never modified.
     bandwidths : sequence of float, default (0.04, 0.08, 0.16)
-        Kernel bandwidths (unit-area scale), one panel each, labelled ``h = ...``.
+        Kernel bandwidths (unit-area scale), one panel each, captioned ``h = ...``.
     field : {"local_curvature", "local_dne"}
         What to colour by.
     ariadne_options : dict, optional
@@ -680,7 +680,7 @@ def render_bandwidths(
     if not bandwidths:
         raise ValueError("render_bandwidths needs at least one bandwidth")
     results = [ariaDNE(mesh, bandwidth=h, **(ariadne_options or {})) for h in bandwidths]
-    labels = [f"{name}  h = {h:g}".strip() for h in bandwidths]
+    labels = [name] * len(bandwidths)  # the caption under each names its bandwidth
     render_panel([(mesh, r) for r in results], labels=labels, field=field, **options)
     return results
 
