@@ -183,7 +183,7 @@ def test_four_panel_layout_holds(monkeypatch, tmp_path, tooth, size, dpi):
     layouts = capture_layouts(monkeypatch, _render)
     result = ariaDNE(tooth)
     path = tmp_path / "panel.png"
-    labels = ["a rather long label for a narrow panel", "b", "c", "d"]
+    labels = ["a rather long label for a narrow panel", "b", "c", "d" * 120]  # one long word
     render_panel([(tooth, result)] * 4, labels=labels, screenshot=path, window_size=size, dpi=dpi)
     (layout,) = layouts
     assert len(layout.views) == 4

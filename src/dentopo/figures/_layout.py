@@ -153,36 +153,67 @@ class _Typesetter:
     def line_height(self, points: float) -> float:
         return 1.3 * points * self.px
 
-    def _wrap(self, text: str, width: float, points: float) -> str | None:
+    def _pieces(self, word: str, width: float, points: float) -> list[str] | None:
+        """`word` cut between characters into pieces that fit `width`, or None if none can."""
+        pieces, piece = [], ""
+        for char in word:
+            if self.width(piece + char, points) <= width:
+                piece += char
+            elif not piece:
+                return None
+            else:
+                pieces.append(piece)
+                piece = char
+        return [*pieces, piece]
+
+    def _wrap(self, text: str, width: float, points: float, cut: bool = False) -> str | None:
+        """Lines broken at spaces (and inside words too wide for a line, if `cut`), or None."""
         lines = []
         for paragraph in text.split("\n"):
-            words, line = paragraph.split(" "), ""
-            for word in words:
+            line = ""
+            for word in paragraph.split(" "):
                 candidate = f"{line} {word}" if line else word
                 if self.width(candidate, points) <= width:
                     line = candidate
-                elif not line or self.width(word, points) > width:
-                    return None
-                else:
+                    continue
+                if line:
                     lines.append(line)
+                    line = ""
+                if self.width(word, points) <= width:
                     line = word
+                    continue
+                if not cut:
+                    return None
+                pieces = self._pieces(word, width, points)
+                if pieces is None:
+                    return None
+                lines.extend(pieces[:-1])
+                line = pieces[-1]
             lines.append(line)
         return "\n".join(lines)
 
     def fit(self, text: str, width: float, points: float = BASE_POINTS) -> tuple[str, float]:
-        """`text` wrapped at spaces to `width` pixels, set smaller if a word does not fit."""
+        """`text` wrapped at spaces to `width` pixels, set smaller if a word does not fit.
+
+        Down to three quarters of `points` (and no smaller than :data:`MIN_POINTS`);
+        a word still too wide (a long file name) is then cut between characters.
+        """
+        smallest = max(MIN_POINTS, 0.75 * points)
         size = points
         while True:
             wrapped = self._wrap(text, width, size)
             if wrapped is not None:
                 return wrapped, size
-            if size <= MIN_POINTS:
-                raise ValueError(
-                    f"the picture is too small for its texts: {text.split()[0]!r}... does not "
-                    f"fit {width:.0f} pixels at {MIN_POINTS:g} pt; give a larger size or a "
-                    "lower dpi"
-                )
-            size = max(MIN_POINTS, size - 0.5)
+            if size <= smallest:
+                break
+            size = max(smallest, size - 0.5)
+        wrapped = self._wrap(text, width, size, cut=True)
+        if wrapped is None:
+            raise ValueError(
+                f"the picture is too small for its texts: {width:.0f} pixels hold no character "
+                f"at {size:g} pt; give a larger size or a lower dpi"
+            )
+        return wrapped, size
 
     def height(self, text: str, points: float) -> float:
         return (text.count("\n") + 1) * self.line_height(points) if text else 0.0
@@ -339,11 +370,11 @@ def compose(
     cell_h = (top - bottom - (rows - 1) * gap) / rows
     view_w = math.floor(cell_w)
     size_p = points
+    texts = ["\n".join(t for t in (panel.label, panel.caption) if t) for panel in panels]
     while True:  # the panels' texts take at most 40 % of a cell's height: smaller, if need be
-        fitted = []
-        for panel in panels:
-            words = "\n".join(t for t in (panel.label, panel.caption) if t)
-            fitted.append(typeset.fit(words, cell_w, size_p) if words else ("", size_p))
+        sizes = [typeset.fit(words, cell_w, size_p)[1] for words in texts if words]
+        common = min(sizes, default=size_p)  # one size for every panel
+        fitted = [typeset.fit(words, cell_w, common) if words else ("", common) for words in texts]
         text_h = max(typeset.height(w, s) for w, s in fitted)
         view_h = math.floor(cell_h - text_h - (gap if text_h else 0))
         if text_h <= 0.4 * cell_h or size_p <= MIN_POINTS:
