@@ -107,3 +107,115 @@ def hemisphere(rings: int = 128, segments: int = 256) -> trimesh.Trimesh:
         ]
     )
     return trimesh.Trimesh(vertices, faces, process=False)
+
+
+# ---------------------------------------------------------------------------
+# pictures: what a composed picture's layout must satisfy
+
+
+def capture_layouts(monkeypatch, module) -> list:
+    """Record every layout `module` (a figures module) saves, saving it as usual."""
+    layouts = []
+    original = module.save
+
+    def spy(layout, path, **options):
+        layouts.append(layout)
+        original(layout, path, **options)
+
+    monkeypatch.setattr(module, "save", spy)
+    return layouts
+
+
+def _overlap(a, b) -> bool:
+    return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
+
+
+def layout_problems(layout) -> list[str]:
+    """Texts that touch another text, a 3D view, a legend's drawing or the picture's edge."""
+    figure = layout.figure
+    renderer = figure.canvas.get_renderer()
+    width, height = figure.bbox.width, figure.bbox.height
+    texts = [(t.get_text(), t.get_window_extent(renderer)) for t in layout.texts if t.get_text()]
+    drawings = [("axes", a.get_window_extent(renderer)) for a in figure.axes]
+    drawings += [("patch", p.get_window_extent(renderer)) for p in figure.artists]
+    problems = []
+    for i, (text, box) in enumerate(texts):
+        if box.x0 < 0 or box.y0 < 0 or box.x1 > width or box.y1 > height:
+            problems.append(f"{text!r} leaves the picture: {box}")
+        for other, other_box in texts[i + 1 :]:
+            if _overlap(box, other_box):
+                problems.append(f"{text!r} overlaps {other!r}")
+        for kind, other_box in drawings:
+            if _overlap(box, other_box):
+                problems.append(f"{text!r} overlaps a {kind} at {other_box}")
+    return problems
+
+
+def view_region(layout, image: np.ndarray, index: int = 0) -> np.ndarray:
+    """The pixels of the saved picture `image` inside the layout's 3D view `index`."""
+    box = layout.views[index].get_window_extent(layout.figure.canvas.get_renderer())
+    height = image.shape[0]
+    rows = slice(round(height - box.y1), round(height - box.y0))
+    return image[rows, round(box.x0) : round(box.x1)]
+
+
+def meshes_outside_their_frames(layout, image: np.ndarray, margin: float = 0.02) -> list[str]:
+    """Views whose mesh pixels (not white, or not transparent) come within `margin` of the edge.
+
+    `image` is the saved PNG as an (h, w, 3 or 4) array.
+    """
+    renderer = layout.figure.canvas.get_renderer()
+    height = image.shape[0]
+    problems = []
+    for index, axes in enumerate(layout.views):
+        box = axes.get_window_extent(renderer)
+        rows = slice(round(height - box.y1), round(height - box.y0))
+        cols = slice(round(box.x0), round(box.x1))
+        region = image[rows, cols]
+        if image.shape[2] == 4 and (image[..., 3] < 255).any():  # a transparent background
+            mesh = region[..., 3] > 0
+        else:
+            mesh = (region[..., :3] < 250).any(axis=2)
+        if mesh.sum() < 100:
+            problems.append(f"view {index}: no mesh drawn")
+            continue
+        r, c = np.nonzero(mesh)
+        h, w = mesh.shape
+        inside = (
+            r.min() >= margin * h
+            and c.min() >= margin * w
+            and r.max() < (1 - margin) * h
+            and c.max() < (1 - margin) * w
+        )
+        if not inside:
+            problems.append(
+                f"view {index}: mesh rows {r.min()}-{r.max()} of {h}, "
+                f"cols {c.min()}-{c.max()} of {w}"
+            )
+    return problems
+
+
+#: Appended to a copy of a page: marks in the DOM every text box whose content is wider
+#: than the box, or that reaches outside its panel or the window.
+OVERFLOW_CHECK = """
+<script>
+(function () {
+  const bad = [];
+  const inside = function (a, b) {
+    return a.left >= b.left - 1 && a.right <= b.right + 1 && a.top >= b.top - 1 &&
+      a.bottom <= b.bottom + 1;
+  };
+  const page = { left: 0, top: 0, right: window.innerWidth, bottom: window.innerHeight };
+  document.querySelectorAll(".text, #rule, #note, #ticks span, .entry").forEach(function (el) {
+    const box = el.getBoundingClientRect();
+    const cell = el.closest(".cell");
+    const wide = el.scrollWidth > el.clientWidth + 1 && el.clientWidth > 0;
+    if (wide) bad.push("wide:" + el.textContent);
+    if (cell && !inside(box, cell.getBoundingClientRect())) bad.push("cell:" + el.textContent);
+    if (!inside(box, page)) bad.push("page:" + el.textContent);
+  });
+  document.body.setAttribute("data-checked", String(document.querySelectorAll(".text").length));
+  document.body.setAttribute("data-overflow", JSON.stringify(bad));
+})();
+</script>
+"""

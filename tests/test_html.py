@@ -25,6 +25,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from conftest import OVERFLOW_CHECK
 from dentopo import ariaDNE, render_curvature, render_panel
 
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read screenshots")
@@ -133,3 +134,42 @@ def test_panel_page_has_one_canvas_per_mesh(tmp_path, tooth):
     dom = chromium(tmp_path, path.as_uri(), "--dump-dom").stdout
     assert dom.count("<canvas") == 3
     assert "±0.3 (fixed)" in dom
+
+
+# ---------------------------------------------------------------------------
+# captions stay inside their boxes, at any window size
+
+
+@pytest.mark.parametrize("size", ["480,480", "1400,900"])
+def test_captions_do_not_overflow(tmp_path, tooth, size):
+    page = tmp_path / "panel.html"
+    result = ariaDNE(tooth)
+    labels = [
+        "a_very_long_specimen_name_without_spaces_from_a_museum_catalogue.ply",
+        "b.ply",
+        "a label with several words that needs to wrap",
+        "d",
+    ]
+    render_panel([(tooth, result)] * 4, labels=labels, html=page)
+    checked = tmp_path / "checked.html"
+    checked.write_text(page.read_text().replace("</body>", OVERFLOW_CHECK + "</body>"))
+    dom = chromium(tmp_path, checked.as_uri(), f"--window-size={size}", "--dump-dom").stdout
+    assert 'data-checked="4"' in dom  # the check ran, over the four captions
+    overflow = re.search(r"data-overflow=\"([^\"]*)\"", dom).group(1)
+    assert overflow == "[]", overflow
+
+
+def test_page_keeps_its_provenance(tmp_path, tooth):
+    from dentopo.figures import camera_for, read_provenance
+
+    page = tmp_path / "tooth.html"
+    result = ariaDNE(tooth)
+    render_curvature(tooth, result, html=page, limits=0.2, azimuth=15.0)
+    record = read_provenance(page)
+    assert record["metric"] == "local_curvature"
+    assert record["parameters"]["limits"] == [-0.2, 0.2]
+    assert record["parameters"]["bandwidth"] == result.bandwidth
+    assert record["input"] == {"file": None, "sha256": None}
+    camera = camera_for(result.mesh.vertices, result.mesh.faces, azimuth=15.0)
+    np.testing.assert_allclose(record["camera"]["position"], camera.position)
+    assert '<script type="application/json" id="dentopo-provenance">' in page.read_text()

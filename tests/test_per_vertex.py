@@ -165,7 +165,7 @@ def test_limits_reach_worker_processes(mesh_file, tmp_path):
     [
         (["--per-vertex-format", "ply"], "needs --per-vertex"),
         (["--per-vertex", "PV", "--per-vertex-format", "stl"], "unknown per-vertex format"),
-        (["--per-vertex", "PV", "--limits", "-0.1", "0.3"], "symmetric"),
+        (["--per-vertex", "PV", "--limits", "0.1", "0.3"], "zero strictly inside"),
         (["--per-vertex", "PV", "--percentile", "0"], "percentile"),
     ],
 )

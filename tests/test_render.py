@@ -13,8 +13,15 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import plane_patch
-from dentopo import DisplayUnavailableError, ariaDNE, render_curvature, render_panel
+from conftest import capture_layouts, layout_problems, meshes_outside_their_frames, plane_patch
+from dentopo import (
+    DisplayUnavailableError,
+    ariaDNE,
+    render_comparison,
+    render_curvature,
+    render_panel,
+)
+from dentopo.figures import _render
 
 pv = pytest.importorskip("pyvista", reason="pyvista (the viz extra) is needed to render")
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read the PNG")
@@ -143,3 +150,91 @@ def test_import_does_not_load_heavy_stacks():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     ).stdout
     assert out.strip() == "[]"
+
+
+# ---------------------------------------------------------------------------
+# print-ready layout: measured on the figure that was saved
+
+SIZES = [((640, 480), None), ((1600, 1200), 600)]
+
+
+def read_rgba(path) -> np.ndarray:
+    with Image.open(path) as png:
+        return np.asarray(png.convert("RGBA"))
+
+
+@pytest.mark.parametrize(("size", "dpi"), SIZES)
+def test_single_picture_layout_holds(monkeypatch, tmp_path, tooth, size, dpi):
+    layouts = capture_layouts(monkeypatch, _render)
+    path = tmp_path / "tooth.png"
+    render_curvature(tooth, screenshot=path, window_size=size, dpi=dpi, title="sample tooth")
+    (layout,) = layouts
+    assert layout_problems(layout) == []
+    image = read_rgba(path)
+    assert image.shape[:2] == size[::-1]
+    assert meshes_outside_their_frames(layout, image) == []
+    with Image.open(path) as png:
+        if dpi is not None:
+            assert png.info["dpi"][0] == pytest.approx(dpi, abs=0.5)
+
+
+@pytest.mark.parametrize(("size", "dpi"), [((1000, 400), None), ((4000, 1600), 600)])
+def test_four_panel_layout_holds(monkeypatch, tmp_path, tooth, size, dpi):
+    layouts = capture_layouts(monkeypatch, _render)
+    result = ariaDNE(tooth)
+    path = tmp_path / "panel.png"
+    labels = ["a rather long label for a narrow panel", "b", "c", "d" * 120]  # one long word
+    render_panel([(tooth, result)] * 4, labels=labels, screenshot=path, window_size=size, dpi=dpi)
+    (layout,) = layouts
+    assert len(layout.views) == 4
+    assert layout_problems(layout) == []
+    assert meshes_outside_their_frames(layout, read_rgba(path)) == []
+
+
+def test_fonts_keep_their_printed_size(monkeypatch, tmp_path, tooth):
+    layouts = capture_layouts(monkeypatch, _render)
+    zero = np.zeros(len(tooth.vertices))
+    for dpi in (150, 600):
+        render_curvature(
+            tooth, field=zero, screenshot=tmp_path / f"{dpi}.png", window_size=(1600, 1200), dpi=dpi
+        )
+    heights = []
+    for layout in layouts:
+        renderer = layout.figure.canvas.get_renderer()
+        heights.append(max(t.get_window_extent(renderer).height for t in layout.texts))
+    assert heights[1] > 3.5 * heights[0]  # 4 times the pixels per point
+
+
+def test_sign_map_gets_two_swatches_not_a_colour_bar(monkeypatch, tmp_path, tooth):
+    layouts = capture_layouts(monkeypatch, _render)
+    render_comparison(tooth, screenshot=tmp_path / "signs.png", window_size=(1200, 500))
+    (layout,) = layouts
+    assert len(layout.figure.axes) == 3  # the three views, no colour-bar axes
+    swatches = [p.get_facecolor()[:3] for p in layout.figure.artists]
+    assert len(swatches) == 2
+    red, blue = max(swatches, key=lambda c: c[0]), max(swatches, key=lambda c: c[2])
+    assert red[0] > red[2] + 0.3 and blue[2] > blue[0] + 0.3
+    words = " ".join(t.get_text() for t in layout.texts)
+    assert "concave" in words and "convex" in words
+    assert layout_problems(layout) == []
+
+
+def test_svg_and_pdf_keep_the_legend_as_vectors(tmp_path, tooth):
+    zero = np.zeros(len(tooth.vertices))
+    render_curvature(tooth, field=zero, screenshot=tmp_path / "t.svg", window_size=(500, 400))
+    svg = (tmp_path / "t.svg").read_text()
+    assert svg.lstrip().startswith("<?xml") and "<svg" in svg
+    assert svg.count("<image") == 2  # the 3D view and the colour bar's gradient
+    assert svg.count("<path") > 20  # the texts' glyphs and the ticks
+    render_curvature(tooth, field=zero, screenshot=tmp_path / "t.pdf", window_size=(500, 400))
+    assert (tmp_path / "t.pdf").read_bytes().startswith(b"%PDF")
+    with pytest.raises(ValueError, match=r"\.png, \.svg, \.pdf"):
+        render_curvature(tooth, field=zero, screenshot=tmp_path / "t.jpg")
+
+
+def test_transparent_background(tmp_path, tooth):
+    path = tmp_path / "t.png"
+    render_curvature(tooth, screenshot=path, window_size=(400, 300), transparent=True)
+    image = read_rgba(path)
+    assert image[0, 0, 3] == 0 and image[-1, -1, 3] == 0
+    assert (image[..., 3] == 255).sum() > 5000  # the mesh and the texts are opaque

@@ -25,10 +25,18 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull
 
+from conftest import (
+    OVERFLOW_CHECK,
+    capture_layouts,
+    layout_problems,
+    meshes_outside_their_frames,
+    view_region,
+)
 from dentopo._optional import MissingExtraError
 from dentopo.figures import (
     OPC_COLORS,
     DisplayUnavailableError,
+    _topography,
     render_footprint,
     render_opc,
     render_slope,
@@ -164,27 +172,49 @@ def test_slope_scale_runs_dark_to_light_and_clips_overhangs():
 
 
 @needs_pyvista
-def test_opc_png_shows_all_eight_bins_and_the_borders(tmp_path, inputs):
+def test_opc_png_shows_all_eight_bins_and_the_borders(monkeypatch, tmp_path, inputs):
     mesh, _, face_bin, face_patch, _ = inputs
+    layouts = capture_layouts(monkeypatch, _topography)
     path = tmp_path / "opc.png"
     render_opc(mesh, face_bin, face_patch, screenshot=path, window_size=(900, 600))
     image = read_png(path)
     assert image.shape == (600, 900, 3)
-    drawing = image[60:, : 2 * 900 // 3]  # the mesh's part: left of the legend, below the title
+    (layout,) = layouts
+    drawing = view_region(layout, image)
     counts = hue_counts(drawing, OPC_COLORS)
     assert min(counts) > 100, counts
     dark = (drawing.max(axis=2) < 70).sum()  # the patch borders
     assert dark > 200, dark
-    legend = image[:, 2 * 900 // 3 :]
-    assert min(hue_counts(legend, OPC_COLORS, tolerance=2.0)) > 20  # eight swatches
+    # a categorical legend: eight bin swatches and the border's, each labelled
+    swatches = [np.round(255 * np.array(p.get_facecolor()[:3])) for p in layout.figure.artists]
+    np.testing.assert_array_equal(swatches, [*OPC_COLORS, BORDER_RGB])
+    words = [t.get_text() for t in layout.texts]
+    assert all(any(f"bin {k}:" in w for w in words) for k in range(1, 9))
+    box = layout.views[0].get_window_extent(layout.figure.canvas.get_renderer())
+    legend = image[round(600 - box.y0) :]  # below the view
+    assert min(hue_counts(legend, OPC_COLORS, tolerance=2.0)) > 20  # drawn in the picture
+    assert layout_problems(layout) == []
 
 
 @needs_pyvista
-def test_opc_png_without_borders_has_no_dark_lines(tmp_path, inputs):
+@pytest.mark.parametrize(("size", "dpi"), [((900, 600), None), ((2400, 1700), 600)])
+def test_opc_png_layout_holds_at_two_sizes(monkeypatch, tmp_path, inputs, size, dpi):
     mesh, _, face_bin, face_patch, _ = inputs
+    layouts = capture_layouts(monkeypatch, _topography)
+    path = tmp_path / "opc.png"
+    render_opc(mesh, face_bin, face_patch, screenshot=path, window_size=size, dpi=dpi)
+    (layout,) = layouts
+    assert layout_problems(layout) == []
+    assert meshes_outside_their_frames(layout, read_png(path)) == []
+
+
+@needs_pyvista
+def test_opc_png_without_borders_has_no_dark_lines(monkeypatch, tmp_path, inputs):
+    mesh, _, face_bin, face_patch, _ = inputs
+    layouts = capture_layouts(monkeypatch, _topography)
     path = tmp_path / "opc.png"
     render_opc(mesh, face_bin, face_patch, borders=False, screenshot=path, window_size=(900, 600))
-    drawing = read_png(path)[60:, : 2 * 900 // 3]
+    drawing = view_region(layouts[0], read_png(path))
     assert (drawing.max(axis=2) < 70).sum() < 20
 
 
@@ -206,11 +236,18 @@ def test_slope_png_is_dark_on_top_and_light_at_the_rim(tmp_path, inputs):
 
 
 @needs_pyvista
-def test_footprint_png_shows_the_outline_around_the_mesh(tmp_path, inputs):
+@pytest.mark.parametrize("upside_down", [False, True])
+def test_footprint_png_shows_the_outline_around_the_mesh(
+    monkeypatch, tmp_path, inputs, upside_down
+):
     mesh, *_, outline = inputs
+    if upside_down:  # seen from -z, the outline is drawn below the mesh, still in sight
+        mesh = trimesh.Trimesh(mesh.vertices * [1, -1, -1], mesh.faces, process=False)
+        outline = outline * [1, -1]
+    layouts = capture_layouts(monkeypatch, _topography)
     path = tmp_path / "footprint.png"
     render_footprint(mesh, outline, screenshot=path, window_size=(600, 600))
-    image = read_png(path)[40:]
+    image = view_region(layouts[0], read_png(path))
     red = (np.abs(image - OUTLINE_RGB) < 30).all(axis=2)
     assert red.sum() > 500
     grey = (np.ptp(image, axis=2) < 8) & (image[..., 0] < 240)  # the plain mesh
@@ -219,6 +256,7 @@ def test_footprint_png_shows_the_outline_around_the_mesh(tmp_path, inputs):
     # the outline encloses the mesh: its extent is the mesh's, a few pixels more
     assert abs(rows.min() - grey_rows.min()) < 12 and abs(rows.max() - grey_rows.max()) < 12
     assert abs(cols.min() - grey_cols.min()) < 12 and abs(cols.max() - grey_cols.max()) < 12
+    assert layout_problems(layouts[0]) == []
 
 
 # ---------------------------------------------------------------------------
@@ -294,6 +332,36 @@ def test_opc_page_shows_the_bins_and_borders_in_a_browser(tmp_path, inputs, mode
     drawing = read_png(shot)[30:560]  # above the legend
     assert min(hue_counts(drawing, OPC_COLORS)) > 50
     assert (drawing.max(axis=2) < 70).sum() > 200  # the borders
+
+
+@needs_chromium
+@pytest.mark.parametrize("width", [420, 1200])
+def test_opc_page_legend_stays_in_its_box(tmp_path, inputs, width):
+    mesh, _, face_bin, face_patch, _ = inputs
+    page = tmp_path / "opc.html"
+    render_opc(mesh, face_bin, face_patch, html=page, title="a_long_specimen_name_without_spaces")
+    checked = tmp_path / "checked.html"
+    checked.write_text(page.read_text().replace("</body>", OVERFLOW_CHECK + "</body>"))
+    dom = subprocess.run(
+        [
+            CHROMIUM,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--host-resolver-rules=MAP * ~NOTFOUND",
+            f"--user-data-dir={tmp_path / 'profile'}",
+            f"--window-size={width},700",
+            "--dump-dom",
+            checked.as_uri(),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=True,
+    ).stdout
+    assert 'data-checked="1"' in dom
+    assert re.search(r'data-overflow="([^"]*)"', dom).group(1) == "[]"
 
 
 # ---------------------------------------------------------------------------

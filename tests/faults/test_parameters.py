@@ -90,7 +90,7 @@ BAD_OTHERS = [
     ["--percentile=1e300"],
     ["--limits", "nan", "1"],
     ["--limits", "-1", "inf"],
-    ["--limits", "-1", "1e300"],
+    ["--limits", "0.1", "0.3"],  # zero not inside (asymmetric pairs around zero are honoured)
     ["--limits", "1", "-1"],
     ["--jobs=-1"],
 ]

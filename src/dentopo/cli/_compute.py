@@ -38,6 +38,7 @@ from ..batch import (
     resumable_files,
     run_tasks,
 )
+from ..figures import DEFAULT_VIEW, VIEW_NAMES
 from ..formats import (
     DEFAULT_PER_VERTEX_FORMATS,
     FORMATS,
@@ -59,6 +60,9 @@ from ._table import print_layout, print_table, table_columns
 
 #: Environment variable naming a Dask scheduler, used when --scheduler is not given.
 SCHEDULER_ENV = "DENTOPO_SCHEDULER"
+
+#: Picture formats of --screenshot and --panel (besides .html).
+PICTURE_FORMATS = (".png", ".svg", ".pdf")
 
 #: ``--color-by`` fields of ariaDNE, and the metrics that have a picture of their own.
 CURVATURE_FIELDS = ("local_curvature", "local_dne")
@@ -272,10 +276,17 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         action="store_true",
         help="show the mesh in a window (one input; -v and --visualize are aliases)",
     )
-    view.add_argument("--screenshot", metavar="PNG", help="save a picture, off-screen (one input)")
+    view.add_argument(
+        "--screenshot",
+        metavar="FILE",
+        help="save a picture, off-screen (one input): .png (with its provenance, see dentopo "
+        "info), or .svg/.pdf (texts and legend as vectors, the 3D view as an image)",
+    )
     view.add_argument("--html", metavar="FILE", help="save an interactive HTML view (one input)")
     view.add_argument(
-        "--panel", metavar="FILE", help="all inputs side by side on one colour scale (.png, .html)"
+        "--panel",
+        metavar="FILE",
+        help="all inputs side by side on one colour scale (.png, .svg, .pdf or .html)",
     )
     view.add_argument(
         "--color-by",
@@ -287,10 +298,44 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     )
     view.add_argument(
         "--view",
-        help="camera direction (default iso; top for the slope, opc and rfi pictures)",
+        type=str.lower,
+        choices=VIEW_NAMES,
+        default=DEFAULT_VIEW,
+        help="camera: occlusal (default: the occlusal surface, an open crown seen from the side "
+        "away from its open base), or top, bottom, front, back, left, right, iso along the "
+        "mesh's own axes",
     )
     view.add_argument(
-        "--window-size", nargs=2, type=int, metavar=("W", "H"), help="picture size in pixels"
+        "--azimuth",
+        type=float,
+        default=0.0,
+        metavar="DEG",
+        help="turn the camera from --view about the picture's up direction (degrees)",
+    )
+    view.add_argument(
+        "--elevation",
+        type=float,
+        default=0.0,
+        metavar="DEG",
+        help="turn the camera from --view up or down (degrees)",
+    )
+    view.add_argument(
+        "--size",
+        "--window-size",
+        dest="window_size",
+        nargs=2,
+        type=int,
+        metavar=("W", "H"),
+        help="picture size in pixels (--window-size is an alias)",
+    )
+    view.add_argument(
+        "--dpi",
+        type=float,
+        help="picture resolution; texts are set in points, so they keep their printed size "
+        "(default: the width printed 6.4 inches wide, 100 to 600 dpi)",
+    )
+    view.add_argument(
+        "--transparent", action="store_true", help="a transparent background (PNG, SVG, PDF)"
     )
     view.add_argument(
         "--limits", nargs=2, type=float, metavar=("LO", "HI"), help="fixed colour limits"
@@ -345,10 +390,17 @@ def _check_usage(args) -> str | None:
         problem = directory_problem(args.per_vertex, "--per-vertex")
         if problem:
             return problem
-    if args.panel is not None and os.path.splitext(args.panel)[1].lower() not in (".png", ".html"):
-        return "--panel must end in .png or .html"
-    if args.screenshot is not None and not args.screenshot.lower().endswith(".png"):
-        return "--screenshot must end in .png"
+    if args.panel is not None and os.path.splitext(args.panel)[1].lower() not in (
+        *PICTURE_FORMATS,
+        ".html",
+    ):
+        return "--panel must end in .png, .svg, .pdf or .html"
+    if args.screenshot is not None and (
+        os.path.splitext(args.screenshot)[1].lower() not in PICTURE_FORMATS
+    ):
+        return "--screenshot must end in .png, .svg or .pdf"
+    if args.dpi is not None and not 10 <= args.dpi <= 2400:
+        return "--dpi must lie in 10..2400"
     return None
 
 
@@ -374,7 +426,7 @@ def _missing_extra(args, settings, scheduler) -> str | None:
     computed (here, unless a scheduler's workers compute them); ``--method
     auto`` falls back to the exact sums silently.
     """
-    png_panel = args.panel is not None and args.panel.lower().endswith(".png")
+    png_panel = args.panel is not None and not args.panel.lower().endswith(".html")
     try:
         if args.show or args.screenshot or png_panel:
             PICTURES.check()
@@ -406,11 +458,18 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
             "nothing to draw: no mesh was computed" + ("" if drawn == "ariadne" else f" ({drawn})")
         )
         return 1
+    camera = {
+        "view": args.view,
+        "azimuth": args.azimuth,
+        "elevation": args.elevation,
+        "dpi": args.dpi,
+        "transparent": args.transparent,
+    }
     options = {
         "field": args.color_by,
         "limits": tuple(args.limits) if args.limits else None,
         "percentile": args.percentile,
-        "view": args.view or "iso",
+        **camera,
     }
     size = {"window_size": tuple(args.window_size)} if args.window_size else {}
     try:
@@ -419,8 +478,9 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
             render.render_panel(
                 [(result.mesh, result) for _, result in ok],
                 labels=[os.path.basename(file) for file, _ in ok],
-                screenshot=args.panel if ext == ".png" else None,
+                screenshot=args.panel if ext != ".html" else None,
                 html=args.panel if ext == ".html" else None,
+                sources=[file for file, _ in ok],
                 **options,
                 **size,
             )
@@ -431,12 +491,13 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
                 "screenshot": args.screenshot,
                 "html": args.html,
                 "interactive": args.show,
+                "source": file,
                 **size,
             }
             if drawn == "ariadne":
                 render.render_curvature(result.mesh, result, **options, **single)
             else:
-                _render_metric(render, drawn, result, args, single)
+                _render_metric(render, drawn, result, args, {**single, **camera})
     except render.DisplayUnavailableError as exc:
         _say(f"cannot draw: {exc}")
         return 1
@@ -451,14 +512,23 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
 
 def _render_metric(render, metric: str, result, args, options: dict) -> None:
     """One topography metric's picture: slope per face, OPC patches, or the RFI footprint."""
-    if args.view is not None:  # else each picture's own default: the occlusal view
-        options["view"] = args.view
+    options["parameters"] = _metric_parameters(metric, args)
     if metric == "slope":
         render.render_slope(result.mesh, result.face_slope, **options)
     elif metric == "opc":
         render.render_opc(result.mesh, result.face_bin, result.face_patch, **options)
     else:
         render.render_footprint(result.mesh, result.footprint, **options)
+
+
+def _metric_parameters(metric: str, args) -> dict:
+    """The settings of a topography metric's picture, for its provenance."""
+    parameters = {"orient": args.orient}
+    if metric == "opc":
+        parameters["min_faces"] = args.min_faces
+    elif metric == "rfi":
+        parameters.update(alpha=args.alpha, find_alpha=args.find_alpha)
+    return parameters
 
 
 def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:

@@ -20,6 +20,7 @@ from ._progress import PROG, say
 # ``"module:function"`` string, imported only when that subcommand runs (so that the plain
 # command stays fast).
 SUBCOMMANDS: dict[str, str | Callable[[list[str]], int]] = {
+    "info": "dentopo.cli._info:info_main",
     "report": "dentopo.cli._report:report_main",
     "robustness": "dentopo.cli._study:robustness_main",
     "sweep": "dentopo.cli._study:sweep_main",

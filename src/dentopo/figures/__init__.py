@@ -1,10 +1,13 @@
 """Pictures: colour scales, camera views, pyvista renderings and HTML pages.
 
 ``_colors`` (the diverging scale shared by every picture and per-vertex file),
-``_views`` (camera presets), ``_render`` (windows and PNGs through pyvista,
-imported only when a picture is drawn), ``_html`` (self-contained WebGL pages),
-``_topography`` (per-face pictures of slope and OPC, and RFI's footprint outline,
-drawn from a result's arrays).
+``_views`` (named views along the mesh's axes), ``_camera`` (the occlusal view
+and every picture's camera), ``_layout`` (print-ready composition: pyvista 3D
+views with matplotlib texts and legends, sized in points), ``_provenance``
+(the JSON kept in every PNG and HTML page), ``_render`` (windows and pictures,
+pyvista imported only when a picture is drawn), ``_html`` (self-contained WebGL
+pages), ``_topography`` (per-face pictures of slope and OPC, and RFI's footprint
+outline, drawn from a result's arrays).
 
 May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
 :mod:`dentopo.topography` (to compute a result with default settings when none
@@ -12,6 +15,7 @@ is given; figures never implement a metric).  Nothing from formats, batch,
 study or cli.
 """
 
+from ._camera import DEFAULT_VIEW, VIEW_NAMES, Camera, camera_for
 from ._colors import (
     DEFAULT_PERCENTILE,
     NEUTRAL,
@@ -21,6 +25,7 @@ from ._colors import (
     diverging_rgb,
     slope_rgb,
 )
+from ._provenance import read_provenance
 from ._render import (  # pyvista is imported only when a picture is drawn
     DisplayUnavailableError,
     render_bandwidths,
@@ -33,13 +38,18 @@ from ._views import VIEWS
 
 __all__ = [
     "DEFAULT_PERCENTILE",
+    "DEFAULT_VIEW",
     "NEUTRAL",
     "OPC_COLORS",
     "VIEWS",
+    "VIEW_NAMES",
+    "Camera",
     "ColorScale",
     "DisplayUnavailableError",
+    "camera_for",
     "color_scale",
     "diverging_rgb",
+    "read_provenance",
     "render_bandwidths",
     "render_comparison",
     "render_curvature",

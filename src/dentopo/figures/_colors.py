@@ -2,13 +2,20 @@
 
 Signed curvature is shown red where positive (convex: cusps, ridges), blue
 where negative (concave: valleys, basins) and a light neutral grey at zero,
-with intensity growing with magnitude.  Limits are always symmetric about zero,
-so that the neutral colour means zero and nothing else:
+with intensity growing with magnitude.  The neutral colour means zero and
+nothing else:
 
-* by default ``±L`` with ``L`` a high percentile (98 by default) of ``|value|``,
-  so that a few extreme vertices (one sharp tip) do not wash out the picture;
-  values beyond ``L`` are drawn in the end colours;
-* or limits fixed by the caller, so that several specimens share one scale.
+* by default the limits are ``±L`` with ``L`` a high percentile (98 by
+  default) of ``|value|``, so that a few extreme vertices (one sharp tip) do
+  not wash out the picture; values beyond ``L`` are drawn in the end colours;
+* or limits fixed by the caller, ``L`` for ``±L`` or a pair ``(LO, HI)`` with
+  ``LO < 0 < HI``, so that several specimens share one scale.  An asymmetric
+  pair keeps zero neutral: negative values run from neutral at 0 to the blue
+  end at ``LO``, positive ones to the red end at ``HI`` (two linear halves).
+
+The map is Moreland's "cool to warm": under simulated protanopia,
+deuteranopia and tritanopia its two sides stay far apart and its lightness
+falls from the middle to both ends (tests/test_colors.py measures it).
 
 numpy only; the renderers (pyvista, the HTML viewer) use these colours.
 """
@@ -65,28 +72,49 @@ def diverging_rgb(t) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ColorScale:
-    """Symmetric limits ``(-limit, +limit)`` of a signed colour scale.
+    """Limits ``(low, limit)`` of a signed colour scale, zero neutral; symmetric by default.
 
     Attributes
     ----------
     limit : float
-        Values at or beyond ``±limit`` get the end colours; positive.
+        Values at or beyond ``limit`` get the red end colour; positive.
     rule : str
-        How the limit was chosen, for the colour bar, e.g.
+        How the limits were chosen, for the colour bar, e.g.
         ``"±0.0123 (98th percentile of the magnitude)"`` or ``"±0.05 (fixed)"``.
+    low : float, optional
+        Values at or below ``low`` get the blue end colour; negative.
+        Default ``-limit``.
     """
 
     limit: float
     rule: str
+    low: float | None = None
 
     @property
     def limits(self) -> tuple[float, float]:
-        """The limits as a ``(low, high)`` pair, ``low == -high``."""
-        return (-self.limit, self.limit)
+        """The limits as a ``(low, high)`` pair (``low == -high`` unless set apart)."""
+        return (-self.limit if self.low is None else self.low, self.limit)
 
     def normalize(self, values) -> np.ndarray:
-        """Map values to positions on the map: ``values / limit``, clipped to [-1, 1]."""
-        return np.clip(np.asarray(values, dtype=np.float64) / self.limit, -1.0, 1.0)
+        """Map values to positions on the map, clipped to [-1, 1]: ``0`` stays ``0``.
+
+        Positive values are divided by ``high``, negative ones by ``|low|``.
+        """
+        values = np.asarray(values, dtype=np.float64)
+        low, high = self.limits
+        with np.errstate(invalid="ignore"):
+            scaled = np.where(values < 0, values / -low, values / high)
+        return np.clip(scaled, -1.0, 1.0)
+
+    def position(self, values) -> np.ndarray:
+        """Where values lie along a colour bar running linearly from low (0) to high (1)."""
+        low, high = self.limits
+        return (np.asarray(values, dtype=np.float64) - low) / (high - low)
+
+    def bar_rgb(self, t) -> np.ndarray:
+        """(..., 3) float colours along that bar, at positions ``t`` in [0, 1]."""
+        low, high = self.limits
+        return diverging_rgb(self.normalize(low + np.asarray(t, dtype=np.float64) * (high - low)))
 
     def rgb(self, values) -> np.ndarray:
         """(n, 3) uint8 colours of ``values`` on this scale."""
@@ -111,9 +139,10 @@ def color_scale(values=None, *, limits=None, percentile: float = DEFAULT_PERCENT
         The field(s) to be drawn; several arrays (one per specimen) are pooled,
         so that a panel shares one scale.  Not needed when `limits` is given.
     limits : float or (float, float), optional
-        Fixed limits: ``L`` for ``(-L, L)``, or a pair ``(-L, L)``.  They must
-        be symmetric about zero (the neutral colour means zero).  Use the same
-        limits for several specimens to compare them on one scale.
+        Fixed limits: ``L`` for ``(-L, L)``, or a pair ``(LO, HI)`` with
+        ``LO < 0 < HI`` (the neutral colour means zero; an asymmetric pair
+        stretches the two sides apart).  Use the same limits for several
+        specimens to compare them on one scale.
     percentile : float, default 98.0
         When `limits` is None, ``L`` is this percentile of ``|value|`` over the
         finite values, in (0, 100].  100 gives the largest magnitude.
@@ -127,8 +156,8 @@ def color_scale(values=None, *, limits=None, percentile: float = DEFAULT_PERCENT
     Raises
     ------
     ValueError
-        For asymmetric, non-positive or non-finite limits, a percentile
-        outside (0, 100], or no values and no limits.
+        For limits that do not hold zero strictly inside, or are not finite,
+        a percentile outside (0, 100], or no values and no limits.
 
     Examples
     --------
@@ -140,7 +169,10 @@ def color_scale(values=None, *, limits=None, percentile: float = DEFAULT_PERCENT
     (-0.05, 0.05)
     """
     if limits is not None:
-        return ColorScale(_check_limits(limits), f"±{_check_limits(limits):.4g} (fixed)")
+        low, high = _check_limits(limits)
+        if low == -high:
+            return ColorScale(high, f"±{high:.4g} (fixed)")
+        return ColorScale(high, f"{low:.4g} to {high:.4g} (fixed)", low=low)
     if isinstance(percentile, bool) or not isinstance(percentile, Real):
         raise TypeError(f"percentile must be a number; got {type(percentile).__name__}")
     if not 0 < percentile <= 100:
@@ -159,26 +191,30 @@ def color_scale(values=None, *, limits=None, percentile: float = DEFAULT_PERCENT
     return ColorScale(limit, f"±{limit:.4g} ({_ordinal(percentile)} percentile of the magnitude)")
 
 
-def _check_limits(limits) -> float:
+def _check_limits(limits) -> tuple[float, float]:
+    """``(low, high)`` with ``low < 0 < high``, from ``L`` or a pair."""
     if isinstance(limits, Real) and not isinstance(limits, bool):
-        limit = float(limits)
+        low, high = -float(limits), float(limits)
     else:
         try:
             low, high = (float(v) for v in limits)
         except (TypeError, ValueError) as exc:
-            raise TypeError(f"limits must be a number L or a pair (-L, L); got {limits!r}") from exc
-        if not np.isclose(low, -high, rtol=1e-12, atol=0.0):
-            raise ValueError(
-                f"limits must be symmetric about zero, (-L, L), so that the neutral colour "
-                f"means zero; got ({low!r}, {high!r})"
-            )
-        limit = high
-    if not np.isfinite(limit) or limit <= 0:
-        raise ValueError(f"the limit L must be positive and finite; got {limit!r}")
-    return limit
+            raise TypeError(
+                f"limits must be a number L or a pair (LO, HI); got {limits!r}"
+            ) from exc
+    if not (np.isfinite(low) and np.isfinite(high)):
+        raise ValueError(f"the limits must be finite; got ({low!r}, {high!r})")
+    if not low < 0 < high:
+        raise ValueError(
+            f"the limits must hold zero strictly inside, LO < 0 < HI (the neutral colour means "
+            f"zero); a single limit L must be positive; got ({low!r}, {high!r})"
+        )
+    if np.isclose(low, -high, rtol=1e-12, atol=0.0):
+        low = -high
+    return low, high
 
 
-def lookup_table(n: int = 255) -> np.ndarray:
+def lookup_table(n: int = 255, scale: ColorScale | None = None) -> np.ndarray:
     """A colour table for renderers that map values linearly onto ``n`` entries.
 
     Parameters
@@ -186,6 +222,9 @@ def lookup_table(n: int = 255) -> np.ndarray:
     n : int, default 255
         Number of entries; odd, so that the middle entry, which zero falls
         into when the range is symmetric, is exactly the neutral colour.
+    scale : ColorScale, optional
+        For asymmetric limits: the table then runs linearly from its low to
+        its high limit, zero neutral.
 
     Returns
     -------
@@ -195,7 +234,10 @@ def lookup_table(n: int = 255) -> np.ndarray:
     if n < 3 or n % 2 == 0:
         raise ValueError(f"the table needs an odd number (>= 3) of entries; got {n}")
     centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
-    rgb = np.round(255 * diverging_rgb(centres)).astype(np.uint8)
+    if scale is not None:
+        rgb = np.round(255 * scale.bar_rgb((centres + 1.0) / 2.0)).astype(np.uint8)
+    else:
+        rgb = np.round(255 * diverging_rgb(centres)).astype(np.uint8)
     return np.column_stack([rgb, np.full(n, 255, dtype=np.uint8)])
 
 

@@ -19,23 +19,30 @@ import os
 
 import numpy as np
 
-from ._colors import ColorScale, diverging_rgb
-from ._views import view_rotation
+from . import _provenance
+from ._camera import DEFAULT_VIEW, camera_for
+from ._colors import ColorScale
+from ._layout import write_bytes
 
 
 def _b64(array: np.ndarray, dtype) -> str:
     return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode("ascii")
 
 
-def _mesh_payload(vertices, faces, rgb, label, caption, options=None) -> dict:
-    """The JSON record of one mesh (see :func:`write_html` for the arguments)."""
+def _mesh_payload(camera, vertices, faces, rgb, label, caption, options=None) -> dict:
+    """The JSON record of one mesh (see :func:`write_html` for the arguments).
+
+    Positions, normals and lines are given in the camera's frame (right, up,
+    towards the viewer), around its focal point: the viewer starts unturned.
+    """
     options = options or {}
-    vertices = np.asarray(vertices, dtype=np.float64)
+    rotation = camera.rotation()
+    centre = np.asarray(camera.focal_point, dtype=np.float64)
+    vertices = (np.asarray(vertices, dtype=np.float64) - centre) @ rotation.T
+    centre = np.zeros(3)
     faces = np.asarray(faces, dtype=np.int64)
     rgb = np.asarray(rgb, dtype=np.uint8)
-    low, high = vertices.min(axis=0), vertices.max(axis=0)
-    centre = 0.5 * (low + high)
-    centred = vertices - centre
+    centred = vertices
     radius = float(np.linalg.norm(centred, axis=1).max()) or 1.0
     tri = centred[faces]
     face_normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])  # area-weighted
@@ -65,7 +72,8 @@ def _mesh_payload(vertices, faces, rgb, label, caption, options=None) -> dict:
     }
     lines = options.get("lines")
     if lines is not None and len(lines):
-        lines = (np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3) - centre) / radius
+        lines = np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3)
+        lines = ((lines - np.asarray(camera.focal_point)) @ rotation.T - centre) / radius
         record["lines"] = _b64(lines, "<f4")
         record["lineColor"] = [int(c) for c in options.get("line_rgb", (0, 0, 0))]
         record["lineWidth"] = float(options.get("line_width", 2.0))
@@ -79,8 +87,10 @@ def write_html(
     scale: ColorScale | None = None,
     title: str,
     legend: str = "blue \u2212 concave, red + convex",
-    view: str | None = "iso",
+    view=DEFAULT_VIEW,
     bar: str | None = None,
+    cameras=None,
+    provenance: dict | None = None,
 ) -> None:
     """Write a self-contained interactive page of coloured meshes.
 
@@ -102,15 +112,24 @@ def write_html(
         Name of the coloured quantity.
     legend : str
         What the colours mean, shown by the colour bar.
-    view : str, optional
-        Initial view preset (default "iso"); None means "iso".
+    view : str or (3, 3), default "occlusal"
+        The initial view of each mesh (see :func:`~._camera.camera_for`),
+        when `cameras` is not given; None means "occlusal".
     bar : str, optional
         The legend block's HTML (from :func:`sequential_bar` or
         :func:`swatch_bar`) in place of the diverging colour bar.
+    cameras : sequence of Camera, optional
+        The initial camera of each mesh.
+    provenance : dict, optional
+        The JSON record kept in the page (``<script type="application/json"
+        id="dentopo-provenance">``).
     """
+    meshes = list(meshes)
+    if cameras is None:
+        cameras = [camera_for(m[0], m[1], view or DEFAULT_VIEW) for m in meshes]
     payload = {
-        "meshes": [_mesh_payload(*m) for m in meshes],
-        "rotation": view_rotation(view).tolist(),
+        "meshes": [_mesh_payload(c, *m) for c, m in zip(cameras, meshes, strict=True)],
+        "rotation": np.eye(3).tolist(),
     }
     if bar is None:
         if scale is None:
@@ -121,10 +140,10 @@ def write_html(
         _TEMPLATE.replace("%TITLE%", html_escape.escape(title))
         .replace("%BAR%", bar)
         .replace("%SCRIPT%", _SCRIPT)
+        .replace("%PROVENANCE%", _provenance.html_block(provenance) if provenance else "")
         .replace("%DATA%", data)
     )
-    with open(os.fspath(path), "w", encoding="utf-8") as handle:
-        handle.write(page)
+    write_bytes(os.fspath(path), page.encode("utf-8"))
 
 
 def _gradient(stops) -> str:
@@ -132,15 +151,22 @@ def _gradient(stops) -> str:
 
 
 def _diverging_bar(scale: ColorScale, title: str, legend: str) -> str:
-    t = np.linspace(-1, 1, 21)
-    rgb = np.round(255 * diverging_rgb(t)).astype(int)
+    """The colour bar of a signed field, as in the pictures: title, bar, ticks, the rule."""
+    t = np.linspace(0, 1, 41)
+    rgb = np.round(255 * scale.bar_rgb(t)).astype(int)
     low, high = scale.limits
+    heading = f"{title} ({legend})" if legend else title
+    spans = "".join(
+        f'<span style="left: {100 * float(scale.position(v)):.2f}%">'
+        f"{html_escape.escape('0' if v == 0 else f'{v:.3g}'.replace('-', chr(0x2212)))}</span>"
+        for v in (low, low / 2, 0.0, high / 2, high)
+    )
     return (
-        f'<div id="rule">{html_escape.escape(title)} &nbsp; {html_escape.escape(scale.rule)}'
-        f" &nbsp; {html_escape.escape(legend)}</div>\n"
+        f'<div id="rule">{html_escape.escape(heading)}</div>\n'
         f'<div id="gradient" style="background: linear-gradient(to right, '
-        f'{_gradient(zip((t + 1) / 2, rgb, strict=True))})"></div>\n'
-        f'<div id="ticks"><span>{low:.3g}</span><span>0</span><span>{high:.3g}</span></div>'
+        f'{_gradient(zip(t, rgb, strict=True))})"></div>\n'
+        f'<div id="ticks" class="placed">{spans}</div>\n'
+        f'<div id="note">limits {html_escape.escape(scale.rule)}</div>'
     )
 
 
@@ -203,14 +229,22 @@ html, body { margin: 0; height: 100%; background: #fff; color: #111;
   font: 14px system-ui, sans-serif; }
 body { display: flex; flex-direction: column; }
 #panels { flex: 1; display: grid; gap: 4px; padding: 4px; min-height: 0; }
-.cell { position: relative; min-height: 0; }
-.cell canvas { width: 100%; height: 100%; display: block; touch-action: none; cursor: grab; }
-.text { position: absolute; left: 6px; top: 4px; white-space: pre; pointer-events: none; }
-#bar { padding: 6px 15% 10px; }
-#gradient { height: 16px; }
-#ticks { display: flex; justify-content: space-between; }
-#rule, #note { text-align: center; }
+.cell { position: relative; min-height: 0; min-width: 0; overflow: hidden;
+  display: flex; flex-direction: column; }
+.cell canvas { flex: 1; width: 100%; min-height: 0; display: block; touch-action: none;
+  cursor: grab; }
+.text { padding: 2px 6px; box-sizing: border-box; white-space: pre-wrap; overflow-wrap: anywhere;
+  font-size: clamp(10px, 1.6vw, 14px); line-height: 1.3; pointer-events: none; }
+#bar { padding: 6px 4% 10px; max-width: 900px; width: 92%; margin: 0 auto;
+  box-sizing: border-box; }
+#gradient { height: 16px; border: 1px solid #444; margin: 0 2em; }
+#ticks { display: flex; justify-content: space-between; gap: 4px; margin: 0 2em; }
+#ticks span { min-width: 0; overflow-wrap: anywhere; }
+#ticks.placed { position: relative; display: block; height: 1.4em; margin: 0 2em; }
+#ticks.placed span { position: absolute; transform: translateX(-50%); white-space: nowrap; }
+#rule, #note { text-align: center; overflow-wrap: anywhere; }
 #swatches { display: flex; flex-wrap: wrap; justify-content: center; gap: 4px 16px; }
+.entry { max-width: 100%; overflow-wrap: anywhere; }
 .swatch { display: inline-block; width: 14px; height: 14px; margin-right: 5px;
   vertical-align: -2px; border: 1px solid #444; }
 </style>
@@ -221,6 +255,7 @@ body { display: flex; flex-direction: column; }
 %BAR%
 </div>
 <div id="status" hidden></div>
+%PROVENANCE%
 <script type="application/json" id="dentopo-data">%DATA%</script>
 <script>%SCRIPT%</script>
 </body>
@@ -449,7 +484,8 @@ _SCRIPT = r"""
     const text = document.createElement("div");
     cell.className = "cell"; text.className = "text";
     text.textContent = [raw.label, raw.caption].filter(Boolean).join("\n");
-    cell.appendChild(canvas); cell.appendChild(text); panels.appendChild(cell);
+    if (data.meshes.some(function (r) { return r.label || r.caption; })) cell.appendChild(text);
+    cell.appendChild(canvas); panels.appendChild(cell);
     const view = (force2d ? null : webglView(canvas, m)) || canvasView(canvas, m);
     view.canvas = canvas;
     kinds.push(view.kind);
@@ -473,6 +509,11 @@ _SCRIPT = r"""
   });
   function resize() {
     const ratio = window.devicePixelRatio || 1;
+    const texts = panels.querySelectorAll(".text");  // one height: the meshes line up
+    texts.forEach(function (t) { t.style.minHeight = ""; });
+    let tallest = 0;
+    texts.forEach(function (t) { tallest = Math.max(tallest, t.offsetHeight); });
+    texts.forEach(function (t) { t.style.minHeight = tallest + "px"; });
     state.views.forEach(function (v) {
       v.canvas.width = Math.max(1, Math.round(v.canvas.clientWidth * ratio));
       v.canvas.height = Math.max(1, Math.round(v.canvas.clientHeight * ratio));

@@ -3,9 +3,16 @@
 Each mesh is coloured per vertex by its signed local curvature (or local DNE,
 or any per-vertex field) on the diverging scale of ``_colors``: red convex,
 blue concave, neutral grey at zero, symmetric limits, with a labelled colour
-bar stating the limit rule and a caption with the totals.  Panels put several
-meshes (or one mesh at several bandwidths, or one mesh under several sign
-rules) side by side on one shared scale.
+bar stating the limit rule and a caption with the totals; a map of signs
+(values -1 and +1 only) gets two labelled swatches instead.  Panels put
+several meshes (or one mesh at several bandwidths, or one mesh under several
+sign rules) side by side on one shared scale.
+
+Pictures (``screenshot=``) are composed by ``_layout``: each mesh rendered by
+pyvista from its occlusal view (``_camera``), framed with a margin, texts and
+legends set by matplotlib in points at the requested size and resolution;
+``.png``, ``.svg`` or ``.pdf`` by the file name, the PNG carrying its
+provenance (``_provenance``).
 
 pyvista/VTK (the ``viz`` extra) draws windows and screenshots; it is imported
 only when a picture is made, before any mesh is computed for it (without it,
@@ -28,8 +35,10 @@ import numpy as np
 import trimesh
 
 from .._optional import PICTURES, require
-from ._colors import DEFAULT_PERCENTILE, ColorScale, color_scale, lookup_table
-from ._views import VIEWS
+from . import _provenance
+from ._camera import DEFAULT_VIEW, camera_for, check_view
+from ._colors import DEFAULT_PERCENTILE, ColorScale, color_scale, diverging_rgb, lookup_table
+from ._layout import ColorBar, Panel, Swatches, check_dpi, check_size, compose, output_format, save
 
 FIELDS = ("local_curvature", "local_dne")
 
@@ -53,6 +62,8 @@ class _Item:
     values: np.ndarray
     label: str
     caption: str
+    source: object = None
+    parameters: dict | None = None
 
 
 # ---------------------------------------------------------------------------
@@ -77,14 +88,22 @@ def _default_label(mesh) -> str:
 def _totals(result) -> str:
     return (
         f"DNE {result.dne:.4g} = {result.positive_dne:.4g} (+) + {result.negative_dne:.4g} (\u2212)"
-        f"   h = {result.bandwidth:g}"
+        f"\nh = {result.bandwidth:g}"
     )
 
 
-def _item(mesh, result, field, label: str | None) -> _Item:
+def _result_parameters(result) -> dict:
+    """The settings of an ariaDNE result, for the provenance."""
+    names = ("bandwidth", "cutoff", "distance_type", "sign_method", "method")
+    return {name: getattr(result, name) for name in names if hasattr(result, name)}
+
+
+def _item(mesh, result, field, label: str | None, source=None) -> _Item:
     """Resolve one (mesh, result, field) into arrays to draw."""
     if label is None:
         label = _default_label(mesh)
+    if source is None and isinstance(mesh, (str, os.PathLike)):
+        source = mesh
     if isinstance(field, str):
         if field not in FIELDS:
             raise ValueError(f"field must be one of {FIELDS} or per-vertex values; got {field!r}")
@@ -105,7 +124,8 @@ def _item(mesh, result, field, label: str | None) -> _Item:
             f"({len(vertices)},); got {values.shape}"
         )
     caption = _totals(result) if result is not None and isinstance(field, str) else ""
-    return _Item(vertices, faces, values, label, caption)
+    parameters = _result_parameters(result) if result is not None else {}
+    return _Item(vertices, faces, values, label, caption, source, parameters)
 
 
 def _field_title(field) -> str:
@@ -113,30 +133,11 @@ def _field_title(field) -> str:
 
 
 def _check_view(view):
-    if isinstance(view, str):
-        if view not in VIEWS:
-            raise ValueError(f"view must be one of {tuple(VIEWS)} or a camera; got {view!r}")
-        return view
-    try:
-        camera = np.asarray(view, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"view must be a preset name or a camera; got {view!r}") from exc
-    if camera.shape != (3, 3) or not np.isfinite(camera).all():
-        raise ValueError(
-            "a camera view is three points: (position, focal_point, view_up), shape (3, 3); "
-            f"got shape {camera.shape}"
-        )
-    return camera
+    return check_view(view)
 
 
 def _check_window(window_size) -> tuple[int, int]:
-    try:
-        width, height = (int(v) for v in window_size)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"window_size must be (width, height); got {window_size!r}") from exc
-    if width < 16 or height < 16 or width > 16384 or height > 16384:
-        raise ValueError(f"window_size must lie in 16..16384 pixels; got {window_size!r}")
-    return width, height
+    return check_size(window_size)
 
 
 def _need_pictures(screenshot, interactive) -> None:
@@ -160,21 +161,24 @@ def has_display() -> bool:
 # drawing
 
 
-def _camera(item_vertices: np.ndarray, view) -> tuple:
-    """(position, focal point, view-up) framing the vertices from a preset direction."""
-    if not isinstance(view, str):
-        return tuple(tuple(float(x) for x in row) for row in view)
-    direction, up = (np.asarray(v, dtype=np.float64) for v in VIEWS[view])
-    low, high = item_vertices.min(axis=0), item_vertices.max(axis=0)
-    centre = 0.5 * (low + high)
-    distance = 3.0 * max(float(np.linalg.norm(high - low)), 1e-12)
-    position = centre + distance * direction / np.linalg.norm(direction)
-    return (tuple(position), tuple(centre), tuple(up))
+def _camera(vertices: np.ndarray, faces: np.ndarray, view, azimuth=0.0, elevation=0.0) -> tuple:
+    """(position, focal point, view-up) of :func:`~._camera.camera_for`, for pyvista."""
+    camera = camera_for(vertices, faces, view, azimuth, elevation)
+    return (camera.position, camera.focal_point, camera.up)
 
 
 def _plotter(
-    items: list[_Item], scale: ColorScale, *, title_text, legend, view, window_size, off_screen
+    items: list[_Item],
+    scale: ColorScale,
+    *,
+    title_text,
+    legend,
+    view,
+    window_size,
+    off_screen,
+    turns=(0.0, 0.0),
 ):
+    """An interactive window of the meshes (pictures are composed by ``_layout``)."""
     pv = PICTURES.require()
 
     n = len(items)
@@ -191,7 +195,7 @@ def _plotter(
     )
     plotter.set_background(_BACKGROUND)
     table = pv.LookupTable()
-    table.values = lookup_table()
+    table.values = lookup_table(scale=scale)
     table.scalar_range = scale.limits
     mapper = None
     for index, item in enumerate(items):
@@ -215,10 +219,9 @@ def _plotter(
         text = "\n".join(t for t in (item.label, item.caption) if t)
         if text:
             plotter.add_text(text, position="upper_left", font_size=9, color="black")
-        position, focal, up = _camera(item.vertices, view)
-        plotter.camera_position = [position, focal, up]
+        plotter.camera_position = list(_camera(item.vertices, item.faces, view, *turns))
+        plotter.enable_parallel_projection()
         plotter.reset_camera()
-        plotter.camera.zoom(1.1)
     plotter.subplot(rows, 0)
     plotter.add_scalar_bar(
         title=f"{title_text} {scale.rule}\n{legend}",
@@ -250,20 +253,57 @@ def _quiet_vtk_warnings():
         logger.SetStderrVerbosity(previous)
 
 
-def _screenshot(items, scale, title_text, legend, view, window_size, path) -> None:
-    plotter = _plotter(
-        items,
-        scale,
-        title_text=title_text,
-        legend=legend,
-        view=view,
-        window_size=window_size,
-        off_screen=True,
+def _is_sign_map(items: list[_Item]) -> bool:
+    """Whether every value is -1 or +1: two categories, not a continuous field."""
+    return all(np.isin(item.values, (-1.0, 1.0)).all() for item in items)
+
+
+def _signed(value: float) -> str:
+    return f"{value:.3g}".replace("-", "\u2212")
+
+
+def diverging_bar(scale: ColorScale, title: str, legend: str) -> ColorBar:
+    """The colour bar of a signed field: ticks at the limits, halfway and zero; the rule below."""
+    low, high = scale.limits
+    values = [low, low / 2, 0.0, high / 2, high]
+    ticks = [(float(scale.position(v)), "0" if v == 0 else _signed(v)) for v in values]
+    return ColorBar(
+        scale.bar_rgb,
+        ticks,
+        title=f"{title} ({legend})" if legend else title,
+        note=f"limits {scale.rule}",
     )
-    try:
-        plotter.screenshot(os.fspath(path))
-    finally:
-        plotter.close()
+
+
+#: The two categories of a sign map: (label, value).
+SIGN_CATEGORIES = (("concave (\u22121)", -1.0), ("convex (+1)", 1.0))
+
+
+def sign_swatches(title: str, categories=SIGN_CATEGORIES) -> Swatches:
+    """The categorical legend of a sign map: a labelled swatch per sign."""
+    entries = [
+        (label, tuple(int(c) for c in np.round(255 * diverging_rgb(value))))
+        for label, value in categories
+    ]
+    return Swatches(entries, title=title)
+
+
+def _record(metric, items, cameras, scale, percentile, categorical, extra=None) -> dict:
+    parameters = dict(items[0].parameters or {})
+    for item in items[1:]:  # settings that differ between panels (bandwidths) become lists
+        for key, value in (item.parameters or {}).items():
+            if key in parameters and parameters[key] != value:
+                parameters[key] = [i.parameters.get(key) for i in items]
+    if categorical:
+        parameters["categories"] = {"-1": "blue", "+1": "red"}
+    else:
+        parameters["limits"] = list(scale.limits)
+        parameters["limit_rule"] = scale.rule
+        parameters["percentile"] = percentile
+        parameters["colour_map"] = "dentopo diverging (cool to warm)"
+    parameters.update(extra or {})
+    panels = [(i.label, i.source, c) for i, c in zip(items, cameras, strict=True)]
+    return _provenance.build(metric, parameters, panels)
 
 
 def _draw(
@@ -279,37 +319,75 @@ def _draw(
     html,
     interactive,
     legend=None,
+    azimuth=0.0,
+    elevation=0.0,
+    dpi=None,
+    transparent=False,
+    categories=None,
+    metric=None,
+    extra=None,
 ) -> None:
     view = _check_view(view)
     legend = LEGEND if legend is None else str(legend)
     window_size = _check_window(window_size)
+    dpi = check_dpi(dpi, window_size[0])
     if screenshot is None and html is None and not interactive:
         raise ValueError("nothing to draw to: give screenshot=, html= or interactive=True")
+    if screenshot is not None:
+        output_format(screenshot)
     _need_pictures(screenshot, interactive)  # before the HTML page is written
     if interactive and not has_display():
         raise DisplayUnavailableError(
             "no display is available for an interactive window (DISPLAY and WAYLAND_DISPLAY "
             "are unset); write a picture with screenshot= (PNG) or html= instead"
         )
+    cameras = [camera_for(i.vertices, i.faces, view, azimuth, elevation) for i in items]
     scale = color_scale([item.values for item in items], limits=limits, percentile=percentile)
     if isinstance(field, str):
         title_text = f"{title}: {_field_title(field)}" if title else _field_title(field)
     else:
         title_text = title or "value"
+    categorical = categories is not None or _is_sign_map(items)
+    if categorical:
+        scale = color_scale(limits=1.0)
+    metric = metric or (field if isinstance(field, str) else "values")
+    record = _record(metric, items, cameras, scale, percentile, categorical, extra)
     if html is not None:
-        from ._html import write_html
+        from ._html import swatch_bar, write_html
 
+        bar = None
+        if categorical:
+            swatches = sign_swatches(title_text, categories or SIGN_CATEGORIES)
+            bar = swatch_bar(swatches.title, swatches.entries)
         write_html(
             html,
             [(i.vertices, i.faces, scale.rgb(i.values), i.label, i.caption) for i in items],
             scale=scale,
             title=title_text,
             legend=legend,
-            view=view if isinstance(view, str) else None,
+            cameras=cameras,
+            bar=bar,
+            provenance=record,
         )
     if screenshot is not None:
+        panels = [
+            Panel(
+                i.vertices,
+                i.faces,
+                c,
+                point_rgb=scale.rgb(i.values),
+                label=i.label,
+                caption=i.caption,
+            )
+            for i, c in zip(items, cameras, strict=True)
+        ]
+        if categorical:
+            key = sign_swatches(title_text, categories or SIGN_CATEGORIES)
+        else:
+            key = diverging_bar(scale, title_text, legend)
         with _quiet_vtk_warnings():
-            _screenshot(items, scale, title_text, legend, view, window_size, screenshot)
+            layout = compose(panels, key, size=window_size, dpi=dpi, transparent=transparent)
+        save(layout, screenshot, metadata=_provenance.dumps(record), transparent=transparent)
     if interactive:
         plotter = _plotter(
             items,
@@ -319,6 +397,7 @@ def _draw(
             view=view,
             window_size=window_size,
             off_screen=False,
+            turns=(azimuth, elevation),
         )
         if len(items) > 1:
             plotter.link_views()
@@ -336,17 +415,22 @@ def render_curvature(
     field="local_curvature",
     limits=None,
     percentile: float = DEFAULT_PERCENTILE,
-    view="iso",
+    view=DEFAULT_VIEW,
     window_size: tuple[int, int] = (1024, 768),
     title: str | None = None,
     screenshot=None,
     html=None,
     interactive: bool = False,
+    azimuth: float = 0.0,
+    elevation: float = 0.0,
+    dpi: float | None = None,
+    transparent: bool = False,
+    source=None,
 ) -> None:
     """Draw one mesh coloured by its signed curvature.
 
     Red is convex (positive), blue concave (negative), neutral grey exactly
-    zero; limits are symmetric about zero.  The picture has a labelled colour
+    zero; limits are symmetric about zero unless given.  The picture has a labelled colour
     bar stating the limit rule and a caption with the totals.
 
     Parameters
@@ -361,25 +445,43 @@ def render_curvature(
         What to colour by.  An array gives one value per vertex of
         ``result.mesh`` (or of `mesh` as given, when `result` is None).
     limits : float or (float, float), optional
-        Fixed colour limits ``L`` or ``(-L, L)`` (share them across
-        specimens to compare them on one scale).  Default: the `percentile`
-        of ``|value|``.
+        Fixed colour limits ``L`` for ``(-L, L)``, or ``(LO, HI)`` with
+        ``LO < 0 < HI`` (zero stays neutral; share them across specimens to
+        compare them on one scale).  Default: ``±`` the `percentile` of
+        ``|value|``.
     percentile : float, default 98.0
         Percentile of ``|value|`` used as the limit when `limits` is None.
-    view : {"iso", "top", "bottom", "front", "back", "left", "right"} or (3, 3)
-        A preset direction (the camera looks at the mesh's centre from that
-        side; "top" looks down the z axis), or a camera
-        ``(position, focal_point, view_up)`` in mesh units.
+    view : str or (3, 3), default "occlusal"
+        ``"occlusal"`` looks at the occlusal surface (an open crown from the
+        side away from its open base; see :func:`camera_for`); ``"top"``
+        (from +z), ``"bottom"``, ``"front"`` (from -y), ``"back"``,
+        ``"left"`` (from -x), ``"right"`` and ``"iso"`` look along the mesh's
+        own axes; or a camera ``(position, focal_point, view_up)`` in mesh
+        units.  The projection is parallel.
     window_size : (int, int), default (1024, 768)
-        Width and height in pixels of the window and of the screenshot.
+        Width and height in pixels of the window and of the picture.
     title : str, optional
-        Shown before the field name on the colour bar and as window title.
+        The mesh's label (above it) and the window's title.
     screenshot : str or path-like, optional
-        Write a PNG, rendered off-screen (no display needed).
+        Write a picture, rendered off-screen (no display needed): ``.png``
+        (with its provenance in a ``dentopo`` text chunk), or ``.svg`` /
+        ``.pdf`` (texts and legend as vectors, the 3D view as an image).
     html : str or path-like, optional
         Write a self-contained interactive HTML page (no network needed).
     interactive : bool, default False
         Open a window to rotate and inspect the mesh (blocks until closed).
+    azimuth, elevation : float, default 0
+        Turn the camera from `view`, in degrees: about the picture's up
+        direction, then about its horizontal direction.
+    dpi : float, optional
+        Resolution of the picture: texts are set in points (8 pt), so that
+        they keep their printed size.  Default: the width printed 6.4 inches
+        wide (100 to 600 dpi).
+    transparent : bool, default False
+        A transparent background in place of white.
+    source : str or path-like, optional
+        The file the mesh was read from, named with its SHA-256 in the
+        picture's provenance (default: `mesh`, when it is a path).
 
     Raises
     ------
@@ -397,7 +499,7 @@ def render_curvature(
     >>> render_curvature("tooth.ply", screenshot="tooth.png", view="top")  # doctest: +SKIP
     """
     _need_pictures(screenshot, interactive)
-    items = [_item(mesh, result, field, title)]
+    items = [_item(mesh, result, field, title, source)]
     _draw(
         items,
         field=field,
@@ -409,6 +511,10 @@ def render_curvature(
         screenshot=screenshot,
         html=html,
         interactive=interactive,
+        azimuth=azimuth,
+        elevation=elevation,
+        dpi=dpi,
+        transparent=transparent,
     )
 
 
@@ -419,13 +525,20 @@ def render_panel(
     field="local_curvature",
     limits=None,
     percentile: float = DEFAULT_PERCENTILE,
-    view="iso",
+    view=DEFAULT_VIEW,
     window_size: tuple[int, int] | None = None,
     screenshot=None,
     html=None,
     interactive: bool = False,
     title: str | None = None,
     legend: str | None = None,
+    azimuth: float = 0.0,
+    elevation: float = 0.0,
+    dpi: float | None = None,
+    transparent: bool = False,
+    sources: Sequence | None = None,
+    categories: Sequence[tuple[str, float]] | None = None,
+    metric: str | None = None,
 ) -> None:
     """Draw several meshes side by side on one shared colour scale.
 
@@ -443,13 +556,24 @@ def render_panel(
         As in :func:`render_curvature` (screenshots and windows need the
         ``viz`` extra).  Default limits pool ``|value|`` over all items, so
         the scale is shared.
+    azimuth, elevation, dpi, transparent
+        As in :func:`render_curvature`; each mesh gets its own occlusal view.
     window_size : (int, int), optional
-        Default: 400 x 400 pixels per mesh, plus the colour bar.
+        Default: 400 x 400 pixels per mesh, and 200 pixels for the legend.
     title : str, optional
         Shown before the field name on the colour bar.
     legend : str, optional
-        What the colours mean, under the colour bar (default
+        What the colours mean, beside the colour bar's title (default
         "blue \u2212 concave, red + convex" in text).
+    sources : sequence of path-like or None, optional
+        The file each mesh was read from, for the provenance (default: the
+        mesh itself, when it is a path).
+    categories : sequence of (str, float), optional
+        A categorical legend for fields of a few values: a labelled swatch
+        per (label, value).  Fields holding only -1 and +1 get
+        ``concave (-1)`` and ``convex (+1)`` by default.
+    metric : str, optional
+        What the colours show, for the provenance (default: the field's name).
 
     Examples
     --------
@@ -474,14 +598,24 @@ def render_panel(
         fields = list(field)
         if len(fields) != len(items):
             raise ValueError(f"got {len(fields)} per-vertex fields for {len(items)} items")
+    if sources is not None:
+        sources = list(sources)
+        if len(sources) != len(items):
+            raise ValueError(f"got {len(sources)} sources for {len(items)} items")
     drawn = [
-        _item(mesh, result, f, None if labels is None else labels[i])
+        _item(
+            mesh,
+            result,
+            f,
+            None if labels is None else labels[i],
+            None if sources is None else sources[i],
+        )
         for i, ((mesh, result), f) in enumerate(zip(items, fields, strict=True))
     ]
     if window_size is None:
         cols = len(drawn) if len(drawn) <= 4 else int(np.ceil(np.sqrt(len(drawn))))
         rows = int(np.ceil(len(drawn) / cols))
-        window_size = (400 * cols, 400 * rows + 120)
+        window_size = (400 * cols, 400 * rows + 200)
     _draw(
         drawn,
         field=field if isinstance(field, str) else None,
@@ -494,6 +628,12 @@ def render_panel(
         html=html,
         interactive=interactive,
         legend=legend,
+        azimuth=azimuth,
+        elevation=elevation,
+        dpi=dpi,
+        transparent=transparent,
+        categories=categories,
+        metric=metric,
     )
 
 
@@ -512,7 +652,7 @@ def render_bandwidths(
     mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
         The mesh.  Never modified.
     bandwidths : sequence of float, default (0.04, 0.08, 0.16)
-        Kernel bandwidths (unit-area scale), one panel each, labelled ``h = ...``.
+        Kernel bandwidths (unit-area scale), one panel each, captioned ``h = ...``.
     field : {"local_curvature", "local_dne"}
         What to colour by.
     ariadne_options : dict, optional
@@ -529,17 +669,18 @@ def render_bandwidths(
     from ..ariadne import ariaDNE
 
     _need_pictures(options.get("screenshot"), options.get("interactive", False))
+    bandwidths = [float(h) for h in bandwidths]
     if isinstance(mesh, (str, os.PathLike)):
         from ..mesh import load_mesh
 
+        options.setdefault("sources", [mesh] * len(bandwidths))
         name, mesh = Path(mesh).name, load_mesh(mesh)
     else:
         name = ""
-    bandwidths = [float(h) for h in bandwidths]
     if not bandwidths:
         raise ValueError("render_bandwidths needs at least one bandwidth")
     results = [ariaDNE(mesh, bandwidth=h, **(ariadne_options or {})) for h in bandwidths]
-    labels = [f"{name}  h = {h:g}".strip() for h in bandwidths]
+    labels = [name] * len(bandwidths)  # the caption under each names its bandwidth
     render_panel([(mesh, r) for r in results], labels=labels, field=field, **options)
     return results
 
@@ -574,7 +715,7 @@ def render_comparison(
         Radius in units of the bandwidth (default 1.0).
     **options
         Passed to :func:`render_panel` (``view``, ``screenshot``, ``html``...);
-        the limits are fixed at ±1.
+        the legend is two labelled swatches, -1 and +1.
     """
     from ..sign import DEFAULT_RADIUS_FACTOR, curvature_measure_sign
 
@@ -598,7 +739,13 @@ def render_comparison(
     ]
     options.setdefault("title", "sign")
     options.setdefault(
-        "legend",
-        "\u22121 / +1; ariaDNE and mean: concave / convex; Gaussian: saddle / elliptic",
+        "categories",
+        (
+            ("\u22121: concave (Gaussian: saddle)", -1.0),
+            ("+1: convex (Gaussian: elliptic)", 1.0),
+        ),
     )
+    options.setdefault("metric", "sign comparison")
+    if isinstance(mesh, (str, os.PathLike)):
+        options.setdefault("sources", [mesh] * 3)
     render_panel([(result.mesh, result)] * 3, labels=labels, field=signs, limits=1.0, **options)

@@ -11,23 +11,26 @@ the result's arrays, so that it needs nothing of the metric itself:
   evenly around the colour wheel in the bins' order (so that neighbouring
   directions have neighbouring hues), and draws the borders between patches
   as dark lines.
-* :func:`render_footprint` looks straight down the z axis (parallel
-  projection) at the plainly shaded mesh and draws the footprint outline over
-  it, just above the mesh's highest point, as a thick bright line.
+* :func:`render_footprint` looks straight along the z axis (parallel
+  projection), from the side of the occlusal surface, at the plainly shaded
+  mesh and draws the footprint outline over it, just beyond the mesh on the
+  camera's side, as a thick bright line.
 
-Each writes a PNG (pyvista, off-screen, the ``viz`` extra) and/or a
+Each writes a picture (PNG with its provenance, or SVG/PDF; pyvista,
+off-screen, the ``viz`` extra, composed by ``_layout``) and/or a
 self-contained HTML page (no extra), or opens a window, as
-:func:`~dentopo.figures.render_curvature` does.
+:func:`~dentopo.figures.render_curvature` does.  The default view is the
+occlusal one (:func:`~dentopo.figures.camera_for`).
 """
 
 from __future__ import annotations
-
-import os
 
 import numpy as np
 import trimesh
 
 from .._optional import PICTURES, require
+from . import _provenance
+from ._camera import DEFAULT_VIEW, camera_for, occlusal_direction
 from ._colors import (
     OPC_BINS,
     OPC_COLORS,
@@ -37,10 +40,10 @@ from ._colors import (
     sequential_table,
     slope_rgb,
 )
+from ._layout import ColorBar, Panel, Swatches, check_dpi, compose, output_format, save
 from ._render import (
     _BACKGROUND,
     DisplayUnavailableError,
-    _camera,
     _check_view,
     _check_window,
     _need_pictures,
@@ -98,6 +101,8 @@ def _check_outputs(screenshot, html, interactive, view, window_size):
     window_size = _check_window(window_size)
     if screenshot is None and html is None and not interactive:
         raise ValueError("nothing to draw to: give screenshot=, html= or interactive=True")
+    if screenshot is not None:
+        output_format(screenshot)
     _need_pictures(screenshot, interactive)
     if interactive and not has_display():
         raise DisplayUnavailableError(
@@ -145,8 +150,11 @@ def patch_borders(vertices, faces, face_label) -> np.ndarray:
     return vertices[edges] + lift * normals[:, None, :]
 
 
-def _footprint_segments(footprint, vertices) -> np.ndarray:
-    """The (k, 2, 2) outline as (k, 2, 3) segments just above the mesh's highest point."""
+def _footprint_segments(footprint, vertices, above: bool = True) -> np.ndarray:
+    """The (k, 2, 2) outline as (k, 2, 3) segments just beyond the mesh along z.
+
+    Above its highest point if `above`, else below its lowest.
+    """
     try:
         segments = np.array(footprint, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -157,9 +165,9 @@ def _footprint_segments(footprint, vertices) -> np.ndarray:
         raise ValueError("footprint holds no segments")
     if not np.isfinite(segments).all():
         raise ValueError("footprint holds non-finite coordinates")
-    top = float(vertices[:, 2].max())
     lift = 0.01 * float(np.linalg.norm(np.ptp(vertices, axis=0)))
-    z = np.full((*segments.shape[:2], 1), top + lift)
+    level = vertices[:, 2].max() + lift if above else vertices[:, 2].min() - lift
+    z = np.full((*segments.shape[:2], 1), float(level))
     return np.concatenate([segments, z], axis=2)
 
 
@@ -238,12 +246,10 @@ def _plotter(
         )
     if heading:
         plotter.add_text(heading, position="upper_left", font_size=10, color="black")
-    if parallel:
-        plotter.enable_parallel_projection()
-    position, focal, up = _camera(vertices, view)
-    plotter.camera_position = [position, focal, up]
+    camera = view
+    plotter.enable_parallel_projection()
+    plotter.camera_position = [camera.position, camera.focal_point, camera.up]
     plotter.reset_camera()
-    plotter.camera.zoom(1.25)
     if legend == "bar":
         plotter.subplot(1, 0)
         plotter.add_scalar_bar(
@@ -324,17 +330,39 @@ def _swatches(plotter, entries, title, size) -> None:
     plotter.add_actor(squares, reset_camera=False, pickable=False)
 
 
-def _show(draw, *, screenshot, interactive, title) -> None:
-    """Render off-screen to `screenshot` and/or open a window, from ``draw(off_screen)``."""
+def _show(window, *, screenshot, interactive, title, panel, legend, options, record) -> None:
+    """Compose the picture into `screenshot` and/or open ``window()``'s plotter."""
     if screenshot is not None:
         with _quiet_vtk_warnings():
-            plotter = draw(True)
-            try:
-                plotter.screenshot(os.fspath(screenshot))
-            finally:
-                plotter.close()
+            layout = compose(
+                [panel],
+                legend,
+                size=options["size"],
+                dpi=options["dpi"],
+                transparent=options["transparent"],
+            )
+        save(
+            layout,
+            screenshot,
+            metadata=_provenance.dumps(record),
+            transparent=options["transparent"],
+        )
     if interactive:
-        draw(False).show(title=title or "dentopo")
+        window().show(title=title or "dentopo")
+
+
+def _options(view, window_size, azimuth, elevation, dpi, transparent, vertices, faces) -> dict:
+    camera = camera_for(vertices, faces, view, azimuth, elevation)
+    return {
+        "camera": camera,
+        "size": window_size,
+        "dpi": check_dpi(dpi, window_size[0]),
+        "transparent": bool(transparent),
+    }
+
+
+def _record(metric, title, source, camera, parameters) -> dict:
+    return _provenance.build(metric, dict(parameters or {}), [(title or "", source, camera)])
 
 
 # ---------------------------------------------------------------------------
@@ -345,12 +373,18 @@ def render_slope(
     mesh,
     face_slope,
     *,
-    view="top",
+    view=DEFAULT_VIEW,
     window_size: tuple[int, int] = (900, 900),
     title: str | None = None,
     screenshot=None,
     html=None,
     interactive: bool = False,
+    azimuth: float = 0.0,
+    elevation: float = 0.0,
+    dpi: float | None = None,
+    transparent: bool = False,
+    source=None,
+    parameters: dict | None = None,
 ) -> None:
     """Draw a mesh with each face coloured by its slope.
 
@@ -368,19 +402,32 @@ def render_slope(
     face_slope : (m,) array_like of float
         Slope of each face in degrees, in [0, 180] (the result's
         ``face_slope``).  Never modified.
-    view : {"top", "iso", "bottom", "front", "back", "left", "right"} or (3, 3)
-        A preset direction or a camera ``(position, focal_point, view_up)``;
-        the default looks down the z axis at the occlusal surface.
+    view : str or (3, 3), default "occlusal"
+        The occlusal view (:func:`camera_for`), a named view along the
+        mesh's axes ("top", "bottom", "front", "back", "left", "right",
+        "iso") or a camera ``(position, focal_point, view_up)``.
     window_size : (int, int), default (900, 900)
-        Width and height in pixels of the window and of the screenshot.
+        Width and height in pixels of the window and of the picture.
     title : str, optional
-        Shown before "slope" at the top left, and as window title.
+        Shown before "slope" above the mesh, and as window title.
     screenshot : str or path-like, optional
-        Write a PNG, rendered off-screen (no display needed).
+        Write a picture, rendered off-screen (no display needed): ``.png``,
+        or ``.svg`` / ``.pdf`` (texts and legend as vectors).
     html : str or path-like, optional
         Write a self-contained interactive HTML page (no network needed).
     interactive : bool, default False
         Open a window to rotate and inspect the mesh (blocks until closed).
+    azimuth, elevation : float, default 0
+        Turn the camera from `view`, in degrees (see :func:`camera_for`).
+    dpi : float, optional
+        Resolution of the picture; texts are set in points.  Default: the
+        width printed 6.4 inches wide (100 to 600 dpi).
+    transparent : bool, default False
+        A transparent background in place of white.
+    source : str or path-like, optional
+        The mesh's file, named with its SHA-256 in the picture's provenance.
+    parameters : dict, optional
+        The metric's settings, recorded in the picture's provenance.
 
     Raises
     ------
@@ -404,6 +451,8 @@ def render_slope(
         raise ValueError(
             f"face_slope must lie in [0, 180] degrees; got {slope.min():g} to {slope.max():g}"
         )
+    options = _options(view, window_size, azimuth, elevation, dpi, transparent, vertices, faces)
+    camera = options["camera"]
     overhangs = int((slope > SLOPE_LIMIT).sum())
     note = (
         f"overhangs (over 90\u00b0, up to {slope.max():.0f}\u00b0): {overhangs} faces, "
@@ -412,6 +461,9 @@ def render_slope(
         else ""
     )
     heading = _heading(title, "slope")
+    record = _record(
+        "slope", title, source, camera, {"scale": [0.0, SLOPE_LIMIT], **(parameters or {})}
+    )
     if html is not None:
         from ._html import sequential_bar, write_html
 
@@ -419,22 +471,30 @@ def render_slope(
             html,
             [(vertices, faces, slope_rgb(slope), title or "", "", {"face_colors": True})],
             title=heading,
-            view=view if isinstance(view, str) else None,
+            cameras=[camera],
             bar=sequential_bar(
                 _heading(title, _SLOPE_TITLE),
                 [f"{d}\u00b0" for d in range(0, 91, 15)],
                 lambda t: np.round(255 * sequential_rgb(t)).astype(np.uint8),
                 note,
             ),
+            provenance=record,
         )
+    panel = Panel(vertices, faces, camera, cell_rgb=slope_rgb(slope), label=heading, ambient=0.6)
+    legend = ColorBar(
+        lambda t: sequential_rgb(t),
+        [(d / 90.0, f"{d}\u00b0") for d in range(0, 91, 15)],
+        title=_SLOPE_TITLE,
+        note=note,
+    )
 
-    def draw(off_screen):
+    def window():
         return _plotter(
             vertices,
             faces,
-            off_screen=off_screen,
+            off_screen=False,
             window_size=window_size,
-            view=view,
+            view=camera,
             heading=heading,
             cell_values=slope,
             legend="bar",
@@ -442,7 +502,16 @@ def render_slope(
             note=note,
         )
 
-    _show(draw, screenshot=screenshot, interactive=interactive, title=heading)
+    _show(
+        window,
+        screenshot=screenshot,
+        interactive=interactive,
+        title=heading,
+        panel=panel,
+        legend=legend,
+        options=options,
+        record=record,
+    )
 
 
 def render_opc(
@@ -451,12 +520,18 @@ def render_opc(
     face_patch,
     *,
     borders: bool = True,
-    view="top",
+    view=DEFAULT_VIEW,
     window_size: tuple[int, int] = (1200, 850),
     title: str | None = None,
     screenshot=None,
     html=None,
     interactive: bool = False,
+    azimuth: float = 0.0,
+    elevation: float = 0.0,
+    dpi: float | None = None,
+    transparent: bool = False,
+    source=None,
+    parameters: dict | None = None,
 ) -> None:
     """Draw a mesh with each face coloured by its OPC aspect bin, patch borders in dark lines.
 
@@ -464,7 +539,8 @@ def render_opc(
     45 degrees from -180) get eight hues evenly around the colour wheel, in
     the bins' order, so that neighbouring directions (bins 8 and 1 included)
     have neighbouring hues: bin 1 red, 2 orange, 3 yellow-green, 4 green,
-    5 cyan, 6 azure, 7 violet, 8 magenta.  A legend names each bin's range.
+    5 cyan, 6 azure, 7 violet, 8 magenta.  A legend of eight labelled
+    swatches names each bin's range.
 
     Parameters
     ----------
@@ -479,8 +555,9 @@ def render_opc(
     borders : bool, default True
         Draw the patch borders.
     view, window_size, title, screenshot, html, interactive
-        As in :func:`render_slope` (default window 1200 x 850 pixels, the
-        legend on the right).
+        As in :func:`render_slope` (default picture 1200 x 850 pixels).
+    azimuth, elevation, dpi, transparent, source, parameters
+        As in :func:`render_slope`.
 
     Raises
     ------
@@ -499,64 +576,97 @@ def render_opc(
         shown = ", ".join(str(b) for b in outside[:5]) + (", ..." if outside.size > 5 else "")
         raise ValueError(f"face_bin must hold OPC bins 1 to {OPC_BINS}; got {shown}")
     patches = _per_face_int(face_patch, len(faces), "face_patch")
+    options = _options(view, window_size, azimuth, elevation, dpi, transparent, vertices, faces)
+    camera = options["camera"]
     rgb = np.asarray(OPC_COLORS)[bins - 1]
     lines = patch_borders(vertices, faces, patches) if borders else None
     heading = _heading(title, "OPC")
     entries = [(opc_bin_label(k), tuple(int(c) for c in OPC_COLORS[k - 1])) for k in range(1, 9)]
     if borders:
         entries.append(("patch border", BORDER_RGB))
+    record = _record("opc", title, source, camera, {"borders": borders, **(parameters or {})})
     if html is not None:
         from ._html import swatch_bar, write_html
 
-        options = {"face_colors": True}
+        page = {"face_colors": True}
         if borders:
-            options.update(lines=lines, line_rgb=BORDER_RGB, line_width=1.5)
+            page.update(lines=lines, line_rgb=BORDER_RGB, line_width=1.5)
         write_html(
             html,
-            [(vertices, faces, rgb, title or "", "", options)],
+            [(vertices, faces, rgb, title or "", "", page)],
             title=heading,
-            view=view if isinstance(view, str) else None,
+            cameras=[camera],
             bar=swatch_bar(_heading(title, _OPC_TITLE), entries),
+            provenance=record,
         )
-    line_width = max(1.0, min(window_size) / 400)
+    panel = Panel(
+        vertices,
+        faces,
+        camera,
+        cell_rgb=rgb,
+        label=heading,
+        lines=lines,
+        line_rgb=BORDER_RGB,
+        line_points=0.6,
+        ambient=0.6,
+    )
+    legend = Swatches(entries, title=_OPC_TITLE)
 
-    def draw(off_screen):
+    def window():
         return _plotter(
             vertices,
             faces,
-            off_screen=off_screen,
+            off_screen=False,
             window_size=window_size,
-            view=view,
+            view=camera,
             heading=f"{heading}\naspect bins; dark lines: patch borders" if borders else heading,
             cell_rgb=rgb,
             lines=lines,
             line_rgb=BORDER_RGB,
-            line_width=line_width,
+            line_width=max(1.0, min(window_size) / 400),
             legend="swatches",
             bar_title="aspect bins",
             entries=entries,
         )
 
-    _show(draw, screenshot=screenshot, interactive=interactive, title=heading)
+    _show(
+        window,
+        screenshot=screenshot,
+        interactive=interactive,
+        title=heading,
+        panel=panel,
+        legend=legend,
+        options=options,
+        record=record,
+    )
 
 
 def render_footprint(
     mesh,
     footprint,
     *,
-    view="top",
+    view=DEFAULT_VIEW,
     window_size: tuple[int, int] = (900, 900),
     title: str | None = None,
     screenshot=None,
     html=None,
     interactive: bool = False,
+    azimuth: float = 0.0,
+    elevation: float = 0.0,
+    dpi: float | None = None,
+    transparent: bool = False,
+    source=None,
+    parameters: dict | None = None,
 ) -> None:
-    """Draw the mesh from above with its footprint outline over it.
+    """Draw the mesh from the occlusal side along z with its footprint outline over it.
 
-    The camera looks straight down the z axis with a parallel projection, so
-    that the outline (drawn just above the mesh's highest point) lies over
-    the mesh's x-y projection exactly.  The mesh is shaded plain grey; the
-    outline is a thick red-orange line.
+    The footprint lies in the x-y plane, so the default view looks straight
+    along the z axis (parallel projection) from the side of the occlusal
+    surface: from +z for a crown pointing to +z, from -z for one pointing to
+    -z (:func:`camera_for`'s rule decides which).  The outline is drawn just
+    beyond the mesh on the camera's side, so that it lies over the mesh's x-y
+    projection exactly.  The mesh is shaded plain grey; the outline is a
+    thick red-orange line.
 
     Parameters
     ----------
@@ -566,8 +676,10 @@ def render_footprint(
         The outline as x-y segments in the mesh's units and position (the
         result's ``footprint``).  Never modified.
     view, window_size, title, screenshot, html, interactive
-        As in :func:`render_slope`; the default view, "top", is the one in
-        which the outline is the footprint's boundary.
+        As in :func:`render_slope`; "occlusal" here means along z (the
+        default), in which the outline is the footprint's boundary.
+    azimuth, elevation, dpi, transparent, source, parameters
+        As in :func:`render_slope`.
 
     Raises
     ------
@@ -579,12 +691,19 @@ def render_footprint(
     """
     view, window_size = _check_outputs(screenshot, html, interactive, view, window_size)
     vertices, faces = _mesh_arrays(mesh)
-    lines = _footprint_segments(footprint, vertices)
+    if isinstance(view, str) and view == DEFAULT_VIEW:
+        towards, _ = occlusal_direction(vertices, faces)
+        view = "top" if towards[2] >= 0 else "bottom"
+    options = _options(view, window_size, azimuth, elevation, dpi, transparent, vertices, faces)
+    camera = options["camera"]
+    above = camera.rotation()[2][2] >= 0
+    lines = _footprint_segments(footprint, vertices, above)
     heading = _heading(title, "footprint")
+    grey = np.tile(np.array(PLAIN_RGB, dtype=np.uint8), (len(vertices), 1))
+    record = _record("rfi footprint", title, source, camera, parameters)
     if html is not None:
         from ._html import swatch_bar, write_html
 
-        grey = np.tile(np.array(PLAIN_RGB, dtype=np.uint8), (len(vertices), 1))
         write_html(
             html,
             [
@@ -598,26 +717,45 @@ def render_footprint(
                 )
             ],
             title=heading,
-            view=view if isinstance(view, str) else None,
+            cameras=[camera],
             bar=swatch_bar(_heading(title, _FOOTPRINT_TITLE), [("outline", OUTLINE_RGB)]),
+            provenance=record,
         )
-    line_width = max(2.0, round(min(window_size) / 200))
+    panel = Panel(
+        vertices,
+        faces,
+        camera,
+        point_rgb=grey,
+        label=heading,
+        lines=lines,
+        line_rgb=OUTLINE_RGB,
+        line_points=1.5,
+        ambient=0.6,
+    )
+    legend = Swatches([("footprint outline (x-y plane)", OUTLINE_RGB)], title="")
 
-    def draw(off_screen):
-        plotter = _plotter(
+    def window():
+        return _plotter(
             vertices,
             faces,
-            off_screen=off_screen,
+            off_screen=False,
             window_size=window_size,
-            view=view,
-            heading=f"{heading}\nred-orange: footprint outline (top view, x-y plane)",
-            point_rgb=np.tile(np.array(PLAIN_RGB, dtype=np.uint8), (len(vertices), 1)),
+            view=camera,
+            heading=f"{heading}\nred-orange: footprint outline (x-y plane)",
+            point_rgb=grey,
             lines=lines,
             line_rgb=OUTLINE_RGB,
-            line_width=line_width,
+            line_width=max(2.0, round(min(window_size) / 200)),
             legend=None,
-            parallel=True,
         )
-        return plotter
 
-    _show(draw, screenshot=screenshot, interactive=interactive, title=heading)
+    _show(
+        window,
+        screenshot=screenshot,
+        interactive=interactive,
+        title=heading,
+        panel=panel,
+        legend=legend,
+        options=options,
+        record=record,
+    )
