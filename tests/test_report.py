@@ -26,6 +26,7 @@ from dentopo import color_scale, read_table, write_report
 from dentopo.cli import main
 from dentopo.report._collect import UNGROUPED, folder_groups
 from dentopo.report._payload import COLOR_STEPS, color_indices, pack_mesh, unpack_mesh
+from dentopo.report._thumbnails import report_camera
 from dentopo.samples import tooth
 
 pytest.importorskip("plotly", reason="the report needs the report extra (plotly)")
@@ -162,8 +163,12 @@ def test_payloads_unpack_to_the_meshes(collection):
         name = specimens[int(index)]["name"]
         original = trimesh.load(next(root.glob(f"scans/*/{name}")), process=False)
         assert np.array_equal(faces, original.faces)
-        extent = np.ptp(original.vertices, axis=0).max()
-        assert np.abs(vertices - original.vertices).max() <= extent / 65535
+        # stored turned into the occlusal camera's axes (a rotation), so the page starts there
+        rotation = report_camera(original.vertices, original.faces)
+        assert np.allclose(rotation @ rotation.T, np.eye(3)) and np.linalg.det(rotation) > 0
+        turned = original.vertices @ rotation.T
+        extent = np.ptp(turned, axis=0).max()
+        assert np.abs(vertices - turned).max() <= extent / 65535
 
 
 def test_payload_round_trip_with_wide_indices():

@@ -130,8 +130,12 @@ def write_report(
         raise TypeError(f"thumbnail_size must be an integer; got {thumbnail_size!r}")
     if not 16 <= thumbnail_size <= 1024:
         raise ValueError(f"thumbnail_size must lie in [16, 1024]; got {thumbnail_size}")
-    if limits is not None:
-        color_scale(limits=limits)  # checked before any work
+    fixed = None if limits is None else color_scale(limits=limits)  # checked before any work
+    if fixed is not None and fixed.low not in (None, -fixed.limit):
+        raise ValueError(
+            "the report's colour limits are symmetric, one scale (-L, L) for the whole "
+            f"collection so that its pictures compare; got limits={limits!r}"
+        )
     path = os.fspath(path)
     specimens, metrics = collect(table, groups=groups)
 

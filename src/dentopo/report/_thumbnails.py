@@ -16,24 +16,24 @@ import io
 import numpy as np
 
 from .._optional import PICTURES, require
-from ..figures import ColorScale
+from ..figures import ColorScale, camera_for
 from ..figures._colors import lookup_table
 from ..figures._render import _quiet_vtk_warnings
-from ..figures._views import view_rotation
 from ._payload import pack_mesh
 
 #: Width and height of a thumbnail, pixels.
 THUMBNAIL_SIZE = 192
 
 
-def report_camera(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The direction from the specimen towards the camera, and the view-up (unit vectors).
+def report_camera(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(3, 3) rows: the picture's right, up and towards-the-viewer axes, in mesh coordinates.
 
-    The one place the report's camera is chosen (thumbnails and the 3D view):
-    looking down the z axis onto the crown, +y up.
+    The one place the report's camera is chosen: the occlusal view of every
+    picture (:func:`dentopo.figures.camera_for`).  Thumbnails look along the
+    third row; the 3D view's mesh is stored turned into these axes, so that the
+    page's camera, looking down its z axis with y up, starts from the same view.
     """
-    rotation = view_rotation("top")
-    return rotation[2], rotation[1]
+    return camera_for(vertices, faces).rotation()
 
 
 def _image_module():
@@ -102,7 +102,8 @@ class Thumbnailer:
             name="specimen",
             reset_camera=False,
         )
-        direction, up = report_camera(vertices, faces)
+        rotation = report_camera(vertices, faces)
+        direction, up = rotation[2], rotation[1]
         low, high = vertices.min(axis=0), vertices.max(axis=0)
         centre = 0.5 * (low + high)
         distance = 3.0 * max(float(np.linalg.norm(high - low)), 1e-12)
@@ -137,6 +138,7 @@ def draw(fields: list, scale: ColorScale, size: int = THUMBNAIL_SIZE) -> list[tu
         for field in fields:
             picture = thumbnailer.render(field.vertices, field.faces, field.values)
             encoded = base64.b64encode(picture).decode("ascii")
-            payload = pack_mesh(field.vertices, field.faces, field.values, scale)
+            turned = field.vertices @ report_camera(field.vertices, field.faces).T
+            payload = pack_mesh(turned, field.faces, field.values, scale)
             drawn.append((f"data:{thumbnailer.mime};base64,{encoded}", payload))
     return drawn
