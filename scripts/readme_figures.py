@@ -40,7 +40,7 @@ FIGURES = ("signed", "panel", "report")
 def _mesh(name: str) -> Path:
     path = MESHES / f"{name}.ply"
     if not path.is_file():
-        raise SystemExit(f"{path} not found: the README's pictures need ../shared beside the checkout")
+        raise SystemExit(f"{path} not found: the pictures need ../shared beside the checkout")
     return path
 
 
