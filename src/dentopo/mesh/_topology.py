@@ -92,6 +92,44 @@ def corners_by_vertex(
 
 
 @njit(cache=True)
+def _any_repeated(start, following):  # pragma: no cover
+    """Whether some directed edge occurs twice: a later corner of a vertex with the same next."""
+    for a in range(start.shape[0] - 1):
+        for i in range(start[a], start[a + 1]):
+            for j in range(i + 1, start[a + 1]):
+                if following[i] == following[j]:
+                    return True
+    return False
+
+
+@njit(cache=True)
+def _alone(faces, start, following, alone):  # pragma: no cover
+    """Per directed edge (corner-major), whether no other edge of the faces joins its ends.
+
+    The reverse edge is looked for first: on a surface nearly every edge has
+    one, which ends the search early.
+    """
+    m = faces.shape[0]
+    for f in range(m):
+        for c in range(3):
+            a = faces[f, c]
+            b = faces[f, (c + 1) % 3]
+            single = True
+            if a != b:
+                for i in range(start[b], start[b + 1]):
+                    if following[i] == a:
+                        single = False
+                        break
+            if single:
+                same = 0
+                for i in range(start[a], start[a + 1]):
+                    if following[i] == b:
+                        same += 1
+                single = same == 1
+            alone[c * m + f] = single
+
+
+@njit(cache=True)
 def _count_uses(faces, start, following, uses, twice):  # pragma: no cover
     """Per directed edge (corner-major: ``c * m + f``), how many edges of the faces join its ends.
 
@@ -99,8 +137,8 @@ def _count_uses(faces, start, following, uses, twice):  # pragma: no cover
     direction), ``twice[0]`` whether some directed edge occurs more than once.
     """
     m = faces.shape[0]
-    for c in range(3):
-        for f in range(m):
+    for f in range(m):  # face by face: the three edges' ends are near in memory
+        for c in range(3):
             a = faces[f, c]
             b = faces[f, (c + 1) % 3]
             same = 0
@@ -184,8 +222,10 @@ def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     by more than two faces are ignored (no consistent orientation exists there).
     """
     m = len(faces)
-    if not edge_uses(faces, n_vertices)[1]:
+    start, _, following = corners_by_vertex(faces, n_vertices)
+    if not _any_repeated(start, following):
         return faces  # no directed edge used twice: already consistent
+    del start, following
     directed = _directed_edges(faces)
     face_of = np.tile(np.arange(m), 3)
     undirected = np.sort(directed, axis=1)
@@ -218,7 +258,10 @@ def boundary_edges(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     m = len(faces)
     if m == 0:
         return np.zeros((0, 2), dtype=faces.dtype)
-    once = np.flatnonzero(edge_uses(faces, n_vertices)[0] == 1)
+    start, _, following = corners_by_vertex(faces, n_vertices)
+    alone = np.empty(3 * m, dtype=np.bool_)
+    _alone(np.ascontiguousarray(faces, dtype=np.int64), start, following, alone)
+    once = np.flatnonzero(alone)
     corner = once // m
     face = once - corner * m
     return np.column_stack([faces[face, corner], faces[face, (corner + 1) % 3]])
