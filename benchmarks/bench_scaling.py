@@ -16,6 +16,10 @@ mesh (loading numba's on-disk cache), then times ``ariaDNE(path, method=...)`` f
 file to the totals.  Peak memory is that process's ``ru_maxrss`` (it includes the interpreter
 and libraries, about 0.2 GB).  Wall and CPU seconds are both reported: the machine may be shared,
 and CPU seconds are less sensitive to that.  Runs that exceed ``--timeout`` are reported as such.
+The fast runs also report each phase (``progress=``: prepare, kernel, bending, sign, totals):
+wall and CPU seconds, and the peak memory reached by its end.  ``--mesh-dir`` keeps the generated
+meshes (a 5M-vertex one takes a minute to write) for the next run; ``--json`` writes the rows
+and the machine (cores, CPU model, RAM); ``plot_scaling.py`` draws them.
 
 The exact sums grow as n**2 at the default bandwidth (the kernel reaches about half the
 unit-area surface), so they run only up to ``--exact-max`` vertices.  The published signDNE
