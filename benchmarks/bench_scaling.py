@@ -324,6 +324,7 @@ def main(argv: list[str] | None = None) -> int:
     host = machine()
     print(f"machine: {describe(host)} (at the end)")
     if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({"machine": host, "rows": rows}, indent=1, default=str))
     return 0
 

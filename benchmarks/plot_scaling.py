@@ -10,8 +10,8 @@ Without ``--from-json`` it runs ``bench_scaling.py`` (every size a fresh process
 exact sums up to ``--exact-max`` vertices and the fast ones everywhere; the published signDNE
 0.1.4 up to ``--published-max`` if ``bench_published.py`` has installed it) and saves its rows
 beside the picture (``scaling.json``).  The picture, ``docs/images/scaling.png`` by default, has
-two panels on log-log axes: wall seconds (CPU seconds dotted) and peak resident memory
-(``ru_maxrss``, interpreter included) against the vertex count.  The machine is named in the title.
+two panels against the vertex count (log scale): wall seconds (log scale; CPU seconds dotted)
+and peak resident memory (``ru_maxrss``, interpreter included).  The machine is named in the title.
 """
 
 from __future__ import annotations
@@ -51,6 +51,7 @@ def plot(data: dict, out: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FormatStrFormatter
 
     rows = data["rows"]
     figure, (time_axis, memory_axis) = plt.subplots(1, 2, figsize=(11, 4.5))
@@ -60,8 +61,9 @@ def plot(data: dict, out: Path) -> None:
             continue
         time_axis.plot(x, seconds, marker=marker, color=colour, label=label)
         cx, cpu = series(rows, method, "cpu_seconds")
-        if cx:
-            time_axis.plot(cx, cpu, linestyle=":", color=colour, label=f"{label}, CPU s")
+        shown = [(a, b) for a, b in zip(cx, cpu, strict=True) if b > 0]  # (0: rounded away)
+        if shown:
+            time_axis.plot(*zip(*shown, strict=True), linestyle=":", color=colour, label="  CPU s")
         mx, memory = series(rows, method, "maxrss_gb")
         memory_axis.plot(mx, memory, marker=marker, color=colour, label=label)
     for size, (seconds, gigabytes) in {1_000_000: (10, 4), 5_000_000: (60, 4)}.items():
@@ -70,15 +72,21 @@ def plot(data: dict, out: Path) -> None:
     time_axis.plot([], [], marker="_", color="black", linestyle="", label="targets (1M, 5M)")
     for axis, title in ((time_axis, "seconds, file to totals"), (memory_axis, "peak memory, GB")):
         axis.set_xscale("log")
-        axis.set_yscale("log")
+        axis.set_yscale("log" if axis is time_axis else "linear")
         axis.set_xlabel("vertices")
         axis.set_title(title)
         axis.grid(True, which="both", alpha=0.3)
+        axis.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+        axis.yaxis.set_minor_formatter(FormatStrFormatter(""))
     time_axis.legend(fontsize=8)
     memory_axis.legend(fontsize=8)
     host = data.get("machine")
     if host:
-        figure.suptitle(f"each point a fresh process; {describe(host)}", fontsize=9)
+        figure.suptitle(
+            f"each point a fresh process; {describe(host)} (wall seconds grow with the load: "
+            "CPU seconds dotted)",
+            fontsize=9,
+        )
     figure.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     partial = out.with_suffix(".partial.png")
@@ -99,6 +107,7 @@ def main(argv: list[str] | None = None) -> int:
     source = args.from_json
     if source is None:
         source = args.out.with_name("scaling.json")
+        source.parent.mkdir(parents=True, exist_ok=True)
         command = [sys.executable, str(HERE / "bench_scaling.py"), "--sizes"]
         command += [*map(str, args.sizes), "--json", str(source)]
         command += ["--exact-max", str(args.exact_max), "--published-max", str(args.published_max)]
