@@ -16,6 +16,10 @@ mesh (loading numba's on-disk cache), then times ``ariaDNE(path, method=...)`` f
 file to the totals.  Peak memory is that process's ``ru_maxrss`` (it includes the interpreter
 and libraries, about 0.2 GB).  Wall and CPU seconds are both reported: the machine may be shared,
 and CPU seconds are less sensitive to that.  Runs that exceed ``--timeout`` are reported as such.
+The fast runs also report each phase (``progress=``: prepare, kernel, bending, sign, totals):
+wall and CPU seconds, and the peak memory reached by its end.  ``--mesh-dir`` keeps the generated
+meshes (a 5M-vertex one takes a minute to write) for the next run; ``--json`` writes the rows
+and the machine (cores, CPU model, RAM); ``plot_scaling.py`` draws them.
 
 The exact sums grow as n**2 at the default bandwidth (the kernel reaches about half the
 unit-area surface), so they run only up to ``--exact-max`` vertices.  The published signDNE
@@ -41,6 +45,39 @@ HERE = Path(__file__).resolve().parent
 PUBLISHED_SCRIPT = HERE / "bench_published.py"
 PUBLISHED_PYTHON = HERE / ".published-env" / "bin" / "python"
 TOTALS = ("dne", "positive_dne", "negative_dne")
+
+
+def machine() -> dict:
+    """Cores, CPU model, RAM and load of this machine (Linux ``/proc``; blanks elsewhere)."""
+    import platform
+
+    model, ram_gb = platform.processor() or platform.machine(), None
+    try:
+        with open("/proc/cpuinfo") as info:
+            model = next(
+                (line.split(":", 1)[1].strip() for line in info if line.startswith("model name")),
+                model,
+            )
+        with open("/proc/meminfo") as info:
+            ram_gb = (
+                int(next(line for line in info if line.startswith("MemTotal")).split()[1]) / 1e6
+            )
+    except (OSError, StopIteration, ValueError):
+        pass
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return {
+        "cores": cores,
+        "cpu": model,
+        "ram_gb": ram_gb,
+        "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
+    }
+
+
+def describe(host: dict) -> str:
+    ram = f"{host['ram_gb']:.0f} GB RAM" if host.get("ram_gb") else "RAM unknown"
+    load = host.get("load_average")
+    loaded = f", load average {load:.1f}" if load is not None else ""
+    return f"{host['cores']} cores, {host['cpu']}, {ram}{loaded}"
 
 
 def rings_for(vertices: int) -> int:
@@ -87,21 +124,25 @@ def worker(method: str, mesh_path: str, out_path: str) -> None:
     ariaDNE(tiny, method="exact")
     if method == "fast":
         ariaDNE(tiny, method="fast")
-    phases: dict[str, float] = {}
-    current = ["", 0.0]
+    phases: dict[str, dict] = {}
+    current: list = ["", 0.0, 0.0]
 
     def progress(name: str) -> None:
-        now = time.perf_counter()
+        now, cpu = time.perf_counter(), time.process_time()
         if current[0]:
-            phases[current[0]] = now - current[1]
-        current[0], current[1] = name, now
+            phases[current[0]] = {
+                "seconds": now - current[1],
+                "cpu_seconds": cpu - current[2],
+                "maxrss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6,
+            }
+        current[:] = [name, now, cpu]
 
     cpu_start = time.process_time()
     start = time.perf_counter()
     result = ariaDNE(mesh_path, method=method, progress=progress)
+    progress("")
     seconds = time.perf_counter() - start
     cpu_seconds = time.process_time() - cpu_start
-    phases[current[0]] = time.perf_counter() - current[1]
     meta = {
         "seconds": seconds,
         "cpu_seconds": cpu_seconds,
@@ -193,6 +234,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=900.0, help="seconds per run")
     parser.add_argument("--noise", type=float, default=0.05, help="noise / mean edge length")
     parser.add_argument("--json", type=Path, help="also write the rows here")
+    parser.add_argument(
+        "--mesh-dir",
+        type=Path,
+        help="keep the generated meshes in this folder and reuse them (default: a temporary one)",
+    )
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     args = parser.parse_args(argv)
 
@@ -207,8 +253,10 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench-scaling-") as tmp:
         scratch = Path(tmp)
+        if args.mesh_dir:
+            args.mesh_dir.mkdir(parents=True, exist_ok=True)
         for size in args.sizes:
-            mesh = make_mesh(size, scratch, args.noise)
+            mesh = make_mesh(size, args.mesh_dir or scratch, args.noise)
             row = {"target": size}
             runs = {}
             for method in args.methods:
@@ -232,7 +280,8 @@ def main(argv: list[str] | None = None) -> int:
                 row[method] = ran[0] if isinstance(ran, tuple) else ran
             row["fast_vs_exact"] = compare(runs.get("exact"), runs.get("fast"))
             rows.append(row)
-            mesh.unlink()
+            if not args.mesh_dir:
+                mesh.unlink()
 
     header = ["vertices", "faces"]
     for method in ("exact", "fast", "published"):
@@ -265,13 +314,18 @@ def main(argv: list[str] | None = None) -> int:
     for row in rows:
         fast = row.get("fast")
         if isinstance(fast, dict):
-            phases = ", ".join(f"{k} {v:.1f}" for k, v in fast["phases"].items())
-            print(f"fast phases at {fast['vertices']:,} vertices (s): {phases}")
+            phases = ", ".join(
+                f"{k} {v['seconds']:.1f} ({v['cpu_seconds']:.1f}, {v['maxrss_gb']:.2f} GB)"
+                for k, v in fast["phases"].items()
+            )
+            print(f"fast phases at {fast['vertices']:,} vertices, s (CPU s, peak so far): {phases}")
     if published_note:
         print(published_note)
-    print(f"machine: {os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f} at the end")
+    host = machine()
+    print(f"machine: {describe(host)} (at the end)")
     if args.json:
-        args.json.write_text(json.dumps(rows, indent=1, default=str))
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps({"machine": host, "rows": rows}, indent=1, default=str))
     return 0
 
 

@@ -128,12 +128,20 @@ def test_few_neighbours_warning_on_fast_path():
         ariaDNE(mesh, method="fast")
 
 
-def test_same_bits_at_any_thread_count(noisy_tooth):
+@pytest.mark.parametrize("split", [False, True], ids=["one spectrum", "spectrum in parts"])
+def test_same_bits_at_any_thread_count(noisy_tooth, monkeypatch, split):
     points = prepare(noisy_tooth).points
+    whole = _fastgauss.fast_euclidean_moments(points, 0.08)
+    if split:  # as on large meshes: the type-1 transform in parts, shared by the threads
+        monkeypatch.setattr(_fastgauss, "SPLIT_SPECTRUM_FROM", 100)
     runs = [_fastgauss.fast_euclidean_moments(points, 0.08, nthreads=t) for t in (1, 2, 3, 1)]
     for run in runs[1:]:
         for name in ("weight", "first", "second", "count"):
             assert getattr(run, name).tobytes() == getattr(runs[0], name).tobytes(), name
+    # cut in parts, the spectrum is summed in another order: equal to rounding
+    scale = np.abs(whole.second).max()
+    assert np.abs(runs[0].second - whole.second).max() < 1e-12 * scale
+    assert np.abs(runs[0].weight - whole.weight).max() < 1e-12 * whole.weight.max()
 
 
 def _with_far_triangle(mesh, distance):
@@ -185,3 +193,26 @@ def test_moments_match_exact_sums_at_any_bandwidth(noisy_tooth, bandwidth):
     assert np.max(cov_error / trace) < 1e-8
     extent = np.ptp(points, axis=0).max()
     assert np.abs(fast.centroid(points) - exact.centroid(points)).max() < 1e-8 * extent
+
+
+def test_compiled_bending_matches_lapack_eigh(noisy_tooth):
+    """The fast path's Jacobi bending equals eigh's to rounding, degenerate matrices included."""
+    from dentopo.ariadne._ariadne import unsigned_bending
+
+    rng = np.random.default_rng(3)
+    x = rng.normal(size=(3000, 3, 3))
+    second = x @ x.transpose(0, 2, 1)
+    second[:100] = np.eye(3)  # three equal eigenvalues
+    second[100:200, 2, :] = second[100:200, :, 2] = 0.0  # a zero eigenvalue (a plane)
+    second[200:300] = 0.0  # an isolated vertex
+    second[300:400] *= 1e-30  # tiny scale
+    weight = rng.uniform(1, 50, size=len(second))
+    normals = rng.normal(size=(len(second), 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    moments = _kernel.KernelMoments(weight, np.zeros((len(weight), 3)), second, weight * 0)
+    expected = unsigned_bending(moments.covariance, normals)
+    assert np.max(np.abs(_fastgauss.bending(moments, normals) - expected)) < 1e-14
+    prepared = prepare(noisy_tooth)
+    moments = _fastgauss.fast_euclidean_moments(prepared.points, 0.08)
+    expected = unsigned_bending(moments.covariance, prepared.normals)
+    assert np.max(np.abs(_fastgauss.bending(moments, prepared.normals) - expected)) < 1e-14

@@ -17,7 +17,7 @@ import trimesh
 
 from conftest import MESHES, shared_mesh
 from dentopo import ariaDNE, load_mesh
-from dentopo.mesh import as_arrays, length_scale, merge_vertices
+from dentopo.mesh import as_arrays, length_scale, merge_vertices, read_ply
 from dentopo.samples import tooth
 from plyfile import obj_text, ply_bytes, write_ply
 
@@ -461,3 +461,47 @@ def test_reading_never_modifies_the_callers_mesh():
     as_arrays(mesh)
     ariaDNE(mesh)
     assert np.array_equal(mesh.vertices, before[0]) and np.array_equal(mesh.faces, before[1])
+
+
+# --- the binary reader at scan size (one frombuffer per element) ---------------------------
+
+
+@pytest.mark.parametrize("fmt", FORMATS[1:])
+@pytest.mark.parametrize(("count_type", "index_type"), [("uchar", "int"), ("int", "uint")])
+def test_a_binary_scan_with_extra_properties_reads_as_trimesh_loads_it(
+    tmp_path, fmt, count_type, index_type
+):
+    mesh = tooth(rings=60)  # 10,981 vertices
+    n, m = len(mesh.vertices), len(mesh.faces)
+    rng = np.random.default_rng(0)
+    vertex_extra = {
+        "nx": ("float", rng.normal(size=n)),
+        "red": ("uchar", rng.integers(0, 256, n)),
+        "quality": ("double", rng.random(n)),
+    }
+    face_extra = {"flags": ("int", rng.integers(-5, 5, m)), "w": ("float", rng.random(m))}
+    path = write_ply(
+        tmp_path / "scan.ply",
+        mesh.vertices,
+        mesh.faces,
+        fmt=fmt,
+        count_type=count_type,
+        index_type=index_type,
+        vertex_extra=vertex_extra,
+        face_extra=face_extra,
+    )
+    ours, theirs = load_mesh(path), trimesh.load(path)
+    assert np.array_equal(ours.vertices, theirs.vertices)
+    assert np.array_equal(ours.faces, theirs.faces)
+    vertices, faces = read_ply(path)  # as stored: nothing merged
+    assert np.array_equal(vertices, mesh.vertices) and np.array_equal(faces, mesh.faces)
+
+
+@pytest.mark.parametrize("fmt", FORMATS[1:])
+@pytest.mark.parametrize("count_type", ["uchar", "int"])
+def test_a_binary_face_of_fewer_than_three_indices_is_an_error(tmp_path, fmt, count_type):
+    mesh = crown()
+    faces = [*mesh.faces.tolist(), [0, 1]]
+    path = write_ply(tmp_path / "short.ply", mesh.vertices, faces, fmt=fmt, count_type=count_type)
+    message = raises(path, "at least 3")
+    assert f"face {len(faces) - 1}" in message

@@ -303,6 +303,14 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     monkeypatch.setattr(_kernel, "PAIRED_VERTICES", 0)
     monkeypatch.setattr(_eigen, "PARALLEL_VERTICES", 0)
     ariaDNE(crown, method="exact")
+    monkeypatch.undo()
+    from dentopo.ariadne import _fastgauss, _kernel
+    from dentopo.mesh import prepare
+    from dentopo.mesh._topology import edge_uses
+
+    prepared = prepare(crown)  # the fast path's compiled bending, without FINUFFT
+    _fastgauss.bending(_kernel.euclidean_moments(prepared.points, 0.08, 0.0), prepared.normals)
+    edge_uses(crown.faces, len(crown.vertices))
     vertices, faces = np.array(crown.vertices), np.array(crown.faces)
     vertices[5] = 1e3  # long triangles, cut into strips
     winding_number(vertices, faces, vertices[:10])

@@ -191,9 +191,14 @@ def ariaDNE(  # noqa: N802 -- the paper's name
         )
 
     phase("bending")
-    bending = unsigned_bending(moments.covariance, prepared.normals)
+    if method == "fast":  # in one compiled pass, without (n, 3, 3) temporaries
+        bending = _fastgauss.bending(moments, prepared.normals)
+    else:
+        bending = unsigned_bending(moments.covariance, prepared.normals)
+    centroid = moments.centroid(points)
+    del moments  # the (n, 3, 3) second moments are no longer needed
     phase("sign")
-    convex = convex_vertices(sign_method, points, faces, moments.centroid(points), bandwidth)
+    convex = convex_vertices(sign_method, points, faces, centroid, bandwidth)
     phase("totals")
     local_curvature = np.where(convex, bending, -bending)
     local_dne = local_curvature * prepared.vertex_area

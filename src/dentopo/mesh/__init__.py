@@ -3,11 +3,11 @@
 Holds what every metric needs before it measures anything: reading a file or
 accepting ``(vertices, faces)`` (``_read``; PLY by our strict reader, ``_ply``),
 the checks every mesh passes (finite coordinates, face indices in range:
-``_validate``), tolerances
-relative to the mesh's size for merging vertices and dropping degenerate faces
-(``_tolerance``), the published cleaning steps and the unit-area working copy
-(``_prepare``), boundaries, consistent and outward orientation and the capping
-of holes (``_topology``), and a spatial order of points (``_spatial``).
+``_validate``), tolerances relative to the mesh's size for merging vertices and
+dropping degenerate faces (``_tolerance``), the published cleaning steps and the
+unit-area working copy (``_prepare``), per-face measures and vertex sums in
+compiled passes (``_faces``), boundaries, consistent and outward orientation and
+the capping of holes (``_topology``), and a spatial order of points (``_spatial``).
 
 May import: numpy, scipy, numba, trimesh.  Nothing else of dentopo: it is the
 bottom layer.

@@ -513,7 +513,8 @@ def _binary_lists(body, raw, element, position, big, names, index, truncated):
                 column = table[f"v{j}"]
                 if prop.is_list:
                     count = np.full(rows, lengths[prop.name], dtype=np.int64)
-                    data[prop.name] = (count, column.reshape(-1))
+                    kind = np.int64 if column.dtype.kind in "iu" else column.dtype
+                    data[prop.name] = (count, column.astype(kind).reshape(-1))  # one copy
                 else:
                     data[prop.name] = column
         return data, position + rows * dtype.itemsize
@@ -622,8 +623,9 @@ def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
     else:
         read = _read_binary(body, elements, fmt == "binary_big_endian", wanted, where)
     columns = read["vertex"]
-    vertices = np.column_stack([np.asarray(columns[a], dtype=np.float64) for a in "xyz"])
-    vertices = vertices.reshape(-1, 3)
+    vertices = np.empty((len(columns["x"]), 3))
+    for axis, name in enumerate("xyz"):
+        vertices[:, axis] = columns[name]
     if face is None or face.count == 0:
         return vertices, np.zeros((0, 3), dtype=np.int64)
     if len(vertices) == 0:
@@ -634,7 +636,7 @@ def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
         if not whole.all():
             first = int(np.repeat(np.arange(len(count)), count)[np.flatnonzero(~whole)[0]])
             raise ValueError(f"{where}face {first} has an index that is not a whole number")
-    flat = flat.astype(np.int64)
+    flat = flat.astype(np.int64, copy=False)
     few = np.flatnonzero(count < 3)
     if len(few):
         indices = plural(int(count[few[0]]), "vertex index", "vertex indices")

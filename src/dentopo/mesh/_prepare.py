@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
+from ._faces import first_faces, vertex_areas, vertex_normals
 from ._read import as_arrays
 from ._tolerance import length_scale, nondegenerate_faces
 from ._topology import boundary_edges, orient_consistently
@@ -73,21 +74,6 @@ def _may_have_small_holes(faces: np.ndarray, n_vertices: int) -> bool:
     return bool(np.any((loop_size > 0) & (loop_size < 5)))
 
 
-def _all_unique_and_referenced(faces: np.ndarray, n_vertices: int) -> bool:
-    """No two faces on the same three vertices, and every vertex in a face.
-
-    Then trimesh's duplicate-face and unreferenced-vertex removal would change
-    nothing, and are skipped (they cost more than the check on a small mesh).
-    """
-    if n_vertices >= 2**21 or np.bincount(faces.ravel(), minlength=n_vertices).min() == 0:
-        return False  # no exact key below, or a vertex in no face
-    corners = faces.astype(np.int64)
-    low, high = corners.min(axis=1), corners.max(axis=1)
-    middle = corners.sum(axis=1) - low - high
-    key = np.sort((low * n_vertices + middle) * n_vertices + high)
-    return not np.any(key[1:] == key[:-1])
-
-
 def clean(vertices, faces) -> trimesh.Trimesh:
     """Clean a mesh as the published computation does, on a private copy.
 
@@ -107,61 +93,37 @@ def clean(vertices, faces) -> trimesh.Trimesh:
 
 
 def _clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
-    """:func:`clean` for arrays that :func:`as_arrays` has validated."""
+    """:func:`clean` for arrays that :func:`as_arrays` has validated.
+
+    trimesh's steps (``fill_holes``, ``update_faces(nondegenerate_faces)``,
+    ``update_faces(unique_faces())``, ``remove_unreferenced_vertices``) with
+    the same result, in linear compiled passes (see ``_faces``).
+    """
     scale = length_scale(vertices, faces)
-    mesh = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
-    filled = _may_have_small_holes(faces, len(vertices))
-    if filled:
-        mesh.fill_holes()
-    keep = nondegenerate_faces(mesh.vertices, mesh.faces, scale=scale)
-    if filled or not (keep.all() and _all_unique_and_referenced(faces, len(vertices))):
-        mesh.update_faces(keep)
-        mesh.update_faces(mesh.unique_faces())
-        mesh.remove_unreferenced_vertices()
-    if len(mesh.faces) == 0:
+    if _may_have_small_holes(faces, len(vertices)):
+        filled = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
+        filled.fill_holes()
+        vertices = np.asarray(filled.vertices, dtype=np.float64)
+        faces = np.asarray(filled.faces, dtype=np.int64)
+    keep = nondegenerate_faces(vertices, faces, scale=scale)
+    faces = faces[first_faces(faces, keep, len(vertices))]
+    vertices, faces = _referenced(vertices, faces)
+    if len(faces) == 0:
         raise ValueError("cleaning left the mesh empty: every face is degenerate")
-    if len(mesh.vertices) < 4:
-        raise ValueError(f"cleaning left {len(mesh.vertices)} vertices; at least 4 are needed")
-    return mesh
+    if len(vertices) < 4:
+        raise ValueError(f"cleaning left {len(vertices)} vertices; at least 4 are needed")
+    return trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
 
 
-def _face_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Each face's ``(b - a) x (c - a)``: twice its area times its unit normal."""
-    tri = vertices[faces]
-    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-
-
-def vertex_areas(vertices: np.ndarray, faces: np.ndarray, *, cross=None) -> np.ndarray:
-    """One third of the total area of the faces around each vertex, shape (n,).
-
-    `cross` is ``_face_cross(vertices, faces)`` if the caller has it already.
-    """
-    cross = _face_cross(vertices, faces) if cross is None else cross
-    face_area = 0.5 * np.linalg.norm(cross, axis=1)
-    # bincount adds in input order, as np.add.at does (same rounding), but fast
-    return np.bincount(
-        faces.ravel(), weights=np.repeat(face_area / 3.0, 3), minlength=len(vertices)
-    )
-
-
-def vertex_normals(vertices: np.ndarray, faces: np.ndarray, *, cross=None) -> np.ndarray:
-    """Unit vertex normals: normalised sum of the unit normals of incident faces.
-
-    `cross` is ``_face_cross(vertices, faces)`` if the caller has it already.
-    """
-    face_normal = _face_cross(vertices, faces) if cross is None else cross
-    length = np.linalg.norm(face_normal, axis=1, keepdims=True)
-    face_normal = np.divide(face_normal, length, out=np.zeros_like(face_normal), where=length > 0)
-    # the three corners in turn, each in face order: the order np.add.at would add in
-    corner = faces.T.ravel()
-    normal = np.column_stack(
-        [
-            np.bincount(corner, weights=np.tile(face_normal[:, a], 3), minlength=len(vertices))
-            for a in range(3)
-        ]
-    )
-    length = np.linalg.norm(normal, axis=1, keepdims=True)
-    return np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
+def _referenced(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices some face uses, in order, and the faces renumbered (trimesh's way)."""
+    referenced = np.zeros(len(vertices), dtype=bool)
+    referenced[faces] = True
+    if referenced.all():
+        return vertices, faces
+    inverse = np.zeros(len(vertices), dtype=np.int64)
+    inverse[referenced] = np.arange(np.count_nonzero(referenced))
+    return vertices[referenced], inverse[faces]
 
 
 def prepare(mesh) -> PreparedMesh:
@@ -171,8 +133,7 @@ def prepare(mesh) -> PreparedMesh:
     v = np.asarray(cleaned.vertices, dtype=np.float64)
     # vertex normals need neighbouring faces to agree; a no-op for consistent meshes
     f = orient_consistently(np.asarray(cleaned.faces, dtype=np.int64), len(v))
-    cross = _face_cross(v, f)
-    area_raw = vertex_areas(v, f, cross=cross)
+    area_raw = vertex_areas(v, f)
     total = float(area_raw.sum())
     if not total > 0:
         raise ValueError("the mesh has zero surface area")
@@ -183,6 +144,6 @@ def prepare(mesh) -> PreparedMesh:
         points=points,
         vertex_area_raw=area_raw,
         vertex_area=area_raw / total,
-        normals=vertex_normals(v, f, cross=cross),
+        normals=vertex_normals(v, f),
         scale=float(scale),
     )

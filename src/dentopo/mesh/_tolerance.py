@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._faces import high_faces
+
 #: Grid spacing for merging coincident vertices, in median edge lengths.
 MERGE_SPACING = 1e-7
 
@@ -143,7 +145,8 @@ def nondegenerate_faces(
 
     A face ``(a, b, c)`` is kept when the edges ``ab`` and ``ac`` are longer than
     the height and so are the face's heights over them (``2 * area / length``):
-    trimesh's ``nondegenerate_faces(height)`` with the height relative to the mesh.
+    trimesh's ``nondegenerate_faces(height)`` with the height relative to the mesh
+    (computed in one compiled pass, see ``_faces.high_faces``).
 
     Parameters
     ----------
@@ -158,17 +161,4 @@ def nondegenerate_faces(
     """
     if scale is None:
         scale = length_scale(vertices, faces)
-    height = DEGENERATE_HEIGHT * scale
-    tri = np.asarray(vertices, dtype=np.float64)[faces]
-    a = tri[:, 1] - tri[:, 0]
-    b = tri[:, 2] - tri[:, 0]
-    cross = np.cross(a, tri[:, 2] - tri[:, 1])  # as trimesh computes the area
-    area = np.sqrt((cross**2).sum(axis=1)) / 2.0
-    keep = np.ones(len(faces), dtype=bool)
-    for edge in (a, b):
-        length = (edge**2).sum(axis=1) ** 0.5
-        box = np.zeros(len(faces))
-        long = length > height
-        box[long] = (area[long] * 2) / length[long]
-        keep &= box > height
-    return keep
+    return high_faces(vertices, faces, DEGENERATE_HEIGHT * scale)

@@ -35,9 +35,9 @@ def check_finite(vertices: np.ndarray, *, where: str = "") -> None:
     ValueError
         Naming how many vertices are non-finite and the first (counting from 0).
     """
+    if len(vertices) == 0 or (np.isfinite(np.min(vertices)) and np.isfinite(np.max(vertices))):
+        return  # (min and max are NaN if any value is, infinite if any value is)
     finite = np.isfinite(vertices).all(axis=1)
-    if finite.all():
-        return
     bad = np.flatnonzero(~finite)
     verb = "has" if len(bad) == 1 else "have"
     raise ValueError(
@@ -63,11 +63,9 @@ def check_indices(faces: np.ndarray, n_vertices: int, *, where: str = "") -> Non
         Naming how many faces have an index outside ``[0, n_vertices - 1]`` and
         the first such face with its indices.
     """
-    if len(faces) == 0:
+    if len(faces) == 0 or (np.min(faces) >= 0 and np.max(faces) < n_vertices):
         return
     outside = (faces < 0) | (faces >= n_vertices)
-    if not outside.any():
-        return
     bad = np.flatnonzero(outside.any(axis=1))
     raise ValueError(index_message(len(bad), int(bad[0]), faces[bad[0]], n_vertices, where=where))
 
