@@ -371,9 +371,10 @@ def rfi(
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        The crown, occlusal plane x-y and crown towards +z (see `orient`).
-        Never modified.
+    mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
+        The crown, occlusal plane x-y and crown towards +z (see `orient`),
+        or one prepared once for several metrics
+        (:func:`dentopo.topography.prepare_surface`).  Never modified.
     alpha : float, default 0.075
         Radius of the alpha shape's discs, in molaR's rescaled units; with
         `find_alpha`, where the search starts.

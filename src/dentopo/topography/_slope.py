@@ -15,7 +15,7 @@ import numpy as np
 import trimesh
 
 from ._orientation import Orientation, check_orient
-from ._surface import molar_face_areas, prepare_surface
+from ._surface import prepare_surface
 
 #: Scalar fields, in the order of output tables.
 SLOPE_FIELDS = ("slope",)
@@ -94,8 +94,9 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        A triangle mesh.  Never modified.
+    mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
+        A triangle mesh, or one prepared once for several metrics
+        (:func:`dentopo.topography.prepare_surface`).  Never modified.
     orient : {"as-is", "auto"}, default "as-is"
         The metric assumes the crown points to +z.  ``"as-is"`` measures the
         mesh as it lies (molaR's behaviour) and warns if the crown points to
@@ -138,7 +139,7 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
 
 def _slope_of(surface) -> SlopeResult:
     per_face = face_slopes(surface.normals)
-    area = molar_face_areas(surface.vertices, surface.faces)
+    area = surface.single_precision_areas()
     mean = float(np.dot(per_face, area) / area.sum())
     return SlopeResult(
         slope=abs(mean),

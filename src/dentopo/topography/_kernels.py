@@ -1,0 +1,308 @@
+"""Compiled per-face and per-edge passes shared by the topography metrics.
+
+Each kernel is a single loop over faces or edges that replaces a chain of
+numpy temporaries.  Every floating-point operation is the one the numpy code
+it replaces performs, in the same order and precision (no fused multiply-add,
+no reassociation), so the numbers are bit for bit those of the numpy
+formulas written beside each kernel.  Transcendental functions (``arccos``,
+``arctan2``) stay in numpy: a compiled library's result may differ in the
+last bit, and a whole-degree slope or an aspect bin could then change.
+
+Kernels write into arrays the caller allocates, where a returned array would
+be boxed with a little Python code (see :mod:`dentopo.mesh._topology`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def face_cross_norm(vertices, faces, cross, norm):
+    """``cross = (v2 - v1) x (v3 - v1)`` and ``norm = |cross|`` of every face.
+
+    As ``face_cross`` and ``np.linalg.norm(cross, axis=1)`` compute them.
+    """
+    for f in range(faces.shape[0]):
+        i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
+        ax = vertices[j, 0] - vertices[i, 0]
+        ay = vertices[j, 1] - vertices[i, 1]
+        az = vertices[j, 2] - vertices[i, 2]
+        bx = vertices[k, 0] - vertices[i, 0]
+        by = vertices[k, 1] - vertices[i, 1]
+        bz = vertices[k, 2] - vertices[i, 2]
+        cx = ay * bz - az * by
+        cy = az * bx - ax * bz
+        cz = ax * by - ay * bx
+        cross[f, 0] = cx
+        cross[f, 1] = cy
+        cross[f, 2] = cz
+        norm[f] = math.sqrt(cx * cx + cy * cy + cz * cz)
+
+
+@njit(cache=True)
+def single_precision_areas(vertices32, faces, area):
+    """Face areas in single precision, as molaR's reader computes them.
+
+    ``tri = vertices32[faces]``; the float32 cross product of
+    ``tri[:, 1] - tri[:, 0]`` and ``tri[:, 2] - tri[:, 0]`` (as ``np.cross``),
+    the float32 sum of its squares, its float32 square root, then
+    ``float64(root) / 2``.
+    """
+    for f in range(faces.shape[0]):
+        i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
+        ax = vertices32[j, 0] - vertices32[i, 0]
+        ay = vertices32[j, 1] - vertices32[i, 1]
+        az = vertices32[j, 2] - vertices32[i, 2]
+        bx = vertices32[k, 0] - vertices32[i, 0]
+        by = vertices32[k, 1] - vertices32[i, 1]
+        bz = vertices32[k, 2] - vertices32[i, 2]
+        cx = ay * bz - az * by
+        cy = az * bx - ax * bz
+        cz = ax * by - ay * bx
+        root = np.sqrt(cx * cx + cy * cy + cz * cz)
+        area[f] = np.float64(root) / 2.0
+
+
+@njit(cache=True)
+def _edge_buckets(faces, n_vertices):
+    """The 3m directed edges bucketed by their lower vertex.
+
+    Edge ``e = k * m + f`` runs from ``faces[f, k]`` to ``faces[f, (k + 1) % 3]``
+    (the layout of :func:`dentopo.mesh.boundary_edges`).  Bucket ``v`` is
+    ``start[v]:start[v + 1]`` of ``other`` (the higher vertex) and ``edge``.
+    """
+    m = faces.shape[0]
+    start = np.zeros(n_vertices + 1, dtype=np.int64)
+    for k in range(3):
+        for f in range(m):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            start[min(a, b) + 1] += 1
+    for v in range(n_vertices):
+        start[v + 1] += start[v]
+    fill = start[:-1].copy()
+    other = np.empty(3 * m, dtype=np.int64)
+    edge = np.empty(3 * m, dtype=np.int64)
+    for k in range(3):
+        for f in range(m):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            low = min(a, b)
+            p = fill[low]
+            other[p] = max(a, b)
+            edge[p] = k * m + f
+            fill[low] = p + 1
+    return start, other, edge
+
+
+@njit(cache=True)
+def edge_uses(faces, n_vertices, uses):
+    """``uses[e]``: how many directed edges share directed edge e's two vertices (e itself too).
+
+    A boundary edge (used by one face) has ``uses == 1``.
+    """
+    start, other, edge = _edge_buckets(faces, n_vertices)
+    for v in range(n_vertices):
+        for p in range(start[v], start[v + 1]):
+            count = 0
+            for q in range(start[v], start[v + 1]):
+                if other[q] == other[p]:
+                    count += 1
+            uses[edge[p]] = count
+
+
+@njit(cache=True)
+def edge_faces(faces, n_vertices, group_start, group_face):
+    """The faces of every edge used by two or more faces, grouped by edge.
+
+    Writes the faces of each group into ``group_face`` (3m slots) and the
+    group boundaries into ``group_start`` (3m + 1 slots); returns the number
+    of groups.
+    """
+    m = faces.shape[0]
+    start, other, edge = _edge_buckets(faces, n_vertices)
+    taken = np.zeros(3 * m, dtype=np.bool_)
+    groups = 0
+    used = 0
+    group_start[0] = 0
+    for v in range(n_vertices):
+        for p in range(start[v], start[v + 1]):
+            if taken[p]:
+                continue
+            first = used
+            for q in range(p, start[v + 1]):
+                if not taken[q] and other[q] == other[p]:
+                    taken[q] = True
+                    group_face[used] = edge[q] % m
+                    used += 1
+            if used - first < 2:
+                used = first
+                continue
+            groups += 1
+            group_start[groups] = used
+    return groups
+
+
+@njit(cache=True)
+def _find(parent, x):
+    root = x
+    while parent[root] != root:
+        root = parent[root]
+    while parent[x] != root:
+        parent[x], x = root, parent[x]
+    return root
+
+
+@njit(cache=True)
+def patch_labels(group_start, group_face, groups, face_bin, bins, face_patch):
+    """molaR's patches: faces of one bin joined across an edge two faces of that bin use.
+
+    Writes each face's patch label into ``face_patch``, patches numbered in
+    the order of their first face; returns the number of patches.
+    """
+    m = face_bin.shape[0]
+    parent = np.arange(m)
+    count = np.zeros(bins + 1, dtype=np.int64)
+    for g in range(groups):
+        lo, hi = group_start[g], group_start[g + 1]
+        if hi - lo == 2:
+            a, b = group_face[lo], group_face[lo + 1]
+            if face_bin[a] == face_bin[b]:
+                ra, rb = _find(parent, a), _find(parent, b)
+                if ra != rb:
+                    parent[max(ra, rb)] = min(ra, rb)
+            continue
+        count[:] = 0
+        for p in range(lo, hi):
+            count[face_bin[group_face[p]]] += 1
+        for bin_ in range(bins + 1):
+            if count[bin_] != 2:
+                continue
+            a = -1
+            for p in range(lo, hi):
+                f = group_face[p]
+                if face_bin[f] != bin_:
+                    continue
+                if a < 0:
+                    a = f
+                else:
+                    ra, rb = _find(parent, a), _find(parent, f)
+                    if ra != rb:
+                        parent[max(ra, rb)] = min(ra, rb)
+    label = np.full(m, -1, dtype=np.int64)
+    patches = 0
+    for f in range(m):
+        root = _find(parent, f)
+        if label[root] < 0:
+            label[root] = patches
+            patches += 1
+        face_patch[f] = label[root]
+    return patches
+
+
+@njit(cache=True)
+def unit_vertex_sums(vertices, faces, unit_faces, out):
+    """Sum each face's normal into its three vertices, then normalise the sums.
+
+    With ``unit_faces`` each face's cross product is normalised first (a zero
+    one stays zero): molaR's energy normals; without, the area-weighted
+    normals of its reader.  As ``np.add.at`` over ``faces[:, 0]``, then
+    ``faces[:, 1]``, then ``faces[:, 2]`` and a guarded division by the norm.
+    """
+    m = faces.shape[0]
+    n = vertices.shape[0]
+    normal = np.empty((m, 3))
+    for f in range(m):
+        i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
+        ax = vertices[j, 0] - vertices[i, 0]
+        ay = vertices[j, 1] - vertices[i, 1]
+        az = vertices[j, 2] - vertices[i, 2]
+        bx = vertices[k, 0] - vertices[i, 0]
+        by = vertices[k, 1] - vertices[i, 1]
+        bz = vertices[k, 2] - vertices[i, 2]
+        cx = ay * bz - az * by
+        cy = az * bx - ax * bz
+        cz = ax * by - ay * bx
+        if unit_faces:
+            length = math.sqrt(cx * cx + cy * cy + cz * cz)
+            if length > 0:
+                cx, cy, cz = cx / length, cy / length, cz / length
+            else:
+                cx, cy, cz = 0.0, 0.0, 0.0
+        normal[f, 0] = cx
+        normal[f, 1] = cy
+        normal[f, 2] = cz
+    out[:] = 0.0
+    for c in range(3):
+        for f in range(m):
+            v = faces[f, c]
+            out[v, 0] += normal[f, 0]
+            out[v, 1] += normal[f, 1]
+            out[v, 2] += normal[f, 2]
+    for v in range(n):
+        x, y, z = out[v, 0], out[v, 1], out[v, 2]
+        length = math.sqrt(x * x + y * y + z * z)
+        if length > 0:
+            out[v, 0] = x / length
+            out[v, 1] = y / length
+            out[v, 2] = z / length
+        else:
+            out[v, 0] = 0.0
+            out[v, 1] = 0.0
+            out[v, 2] = 0.0
+
+
+@njit(cache=True)
+def energy_density(vertices, faces, normals, rcond_min, energy, area):
+    """Per-face ``trace(G^-1 H)`` (zero where ``G`` is ill conditioned) and ``sqrt(det G) / 2``."""
+    for f in range(faces.shape[0]):
+        i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
+        ax = vertices[j, 0] - vertices[i, 0]
+        ay = vertices[j, 1] - vertices[i, 1]
+        az = vertices[j, 2] - vertices[i, 2]
+        bx = vertices[k, 0] - vertices[i, 0]
+        by = vertices[k, 1] - vertices[i, 1]
+        bz = vertices[k, 2] - vertices[i, 2]
+        cx = normals[j, 0] - normals[i, 0]
+        cy = normals[j, 1] - normals[i, 1]
+        cz = normals[j, 2] - normals[i, 2]
+        dx = normals[k, 0] - normals[i, 0]
+        dy = normals[k, 1] - normals[i, 1]
+        dz = normals[k, 2] - normals[i, 2]
+        gaa = ax * ax + ay * ay + az * az
+        gab = ax * bx + ay * by + az * bz
+        gbb = bx * bx + by * by + bz * bz
+        hcc = cx * cx + cy * cy + cz * cz
+        hcd = cx * dx + cy * dy + cz * dz
+        hdd = dx * dx + dy * dy + dz * dz
+        det = gaa * gbb - gab * gab
+        norm1 = max(abs(gaa) + abs(gab), abs(gab) + abs(gbb))
+        rcond = abs(det) / (norm1 * norm1) if norm1 > 0 else 0.0
+        if rcond >= rcond_min:
+            energy[f] = (gbb * hcc - 2.0 * gab * hcd + gaa * hdd) / det
+        else:
+            energy[f] = 0.0
+        area[f] = 0.5 * math.sqrt(max(det, 0.0))
+
+
+@njit(cache=True)
+def _k(vertices, normals, j, i):
+    dx = vertices[j, 0] - vertices[i, 0]
+    dy = vertices[j, 1] - vertices[i, 1]
+    dz = vertices[j, 2] - vertices[i, 2]
+    length2 = dx * dx + dy * dy + dz * dz
+    dot = (normals[j, 0] - normals[i, 0]) * dx
+    dot = dot + (normals[j, 1] - normals[i, 1]) * dy
+    dot = dot + (normals[j, 2] - normals[i, 2]) * dz
+    return dot / length2 if length2 > 0 else 0.0
+
+
+@njit(cache=True)
+def kappa(vertices, faces, normals, out):
+    """molaR's per-face curvature value ``(k(2,1) + k(3,1) + k(1,2)) / 3``."""
+    for f in range(faces.shape[0]):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        total = _k(vertices, normals, b, a) + _k(vertices, normals, c, a)
+        out[f] = (total + _k(vertices, normals, a, b)) / 3.0
