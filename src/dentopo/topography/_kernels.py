@@ -306,3 +306,90 @@ def kappa(vertices, faces, normals, out):
         a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
         total = _k(vertices, normals, b, a) + _k(vertices, normals, c, a)
         out[f] = (total + _k(vertices, normals, a, b)) / 3.0
+
+
+@njit(cache=True)
+def circumcentres(points, simplices, ux, uy):
+    """Each triangle's circumcentre relative to its first vertex (the radius is its hypot).
+
+    ``b, c`` are the other two vertices minus the first; ``d = 2 (b x c)``;
+    ``ux = (c_y |b|^2 - b_y |c|^2) / d``, ``uy = (b_x |c|^2 - c_x |b|^2) / d``.
+    """
+    for t in range(simplices.shape[0]):
+        p, q, r = simplices[t, 0], simplices[t, 1], simplices[t, 2]
+        bx = points[q, 0] - points[p, 0]
+        by = points[q, 1] - points[p, 1]
+        cx = points[r, 0] - points[p, 0]
+        cy = points[r, 1] - points[p, 1]
+        d = 2.0 * (bx * cy - by * cx)
+        bb = bx * bx + by * by
+        cc = cx * cx + cy * cy
+        ux[t] = (cy * bb - by * cc) / d
+        uy[t] = (bx * cc - cx * bb) / d
+
+
+@njit(cache=True)
+def _not_obtuse(points, i, j, apex):
+    """Whether the angle at `apex` of the triangle (i, j, apex) is at most 90 degrees."""
+    ax = points[i, 0] - points[apex, 0]
+    ay = points[i, 1] - points[apex, 1]
+    bx = points[j, 0] - points[apex, 0]
+    by = points[j, 1] - points[apex, 1]
+    return ax * bx + ay * by >= 0
+
+
+@njit(cache=True)
+def delaunay_edges(points, simplices, neighbors, ends, triangle, other, midpoint_on):
+    """Every Delaunay edge once, with its triangles and whether its midpoint is on its Voronoi edge.
+
+    Edge: side k of triangle t (opposite its vertex k), from the triangle with
+    the lower index or the only one, in the order of ``(t, k)``.  ``other`` is
+    the triangle across it (-1 on the convex hull).  ``midpoint_on``: both
+    opposite angles at most 90 degrees (only the one for a hull edge).
+    Returns the number of edges written.
+    """
+    count = 0
+    for t in range(simplices.shape[0]):
+        for k in range(3):
+            o = neighbors[t, k]
+            if o != -1 and o < t:
+                continue
+            i = simplices[t, (k + 1) % 3]
+            j = simplices[t, (k + 2) % 3]
+            ends[count, 0] = i
+            ends[count, 1] = j
+            triangle[count] = t
+            other[count] = o
+            on = _not_obtuse(points, i, j, simplices[t, k])
+            if on and o != -1:
+                apex = simplices[o, 0] + simplices[o, 1] + simplices[o, 2] - i - j
+                on = _not_obtuse(points, i, j, apex)
+            midpoint_on[count] = on
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def loops(segments, n):
+    """The number of closed loops of segments that meet two at every point they use."""
+    first = np.full(n, -1, dtype=np.int64)
+    second = np.full(n, -1, dtype=np.int64)
+    for s in range(segments.shape[0]):
+        for a, b in ((segments[s, 0], segments[s, 1]), (segments[s, 1], segments[s, 0])):
+            if first[a] < 0:
+                first[a] = b
+            else:
+                second[a] = b
+    seen = np.zeros(n, dtype=np.bool_)
+    count = 0
+    for s in range(segments.shape[0]):
+        start = segments[s, 0]
+        if seen[start]:
+            continue
+        count += 1
+        previous, point = -1, start
+        while not seen[point]:
+            seen[point] = True
+            step = first[point] if first[point] != previous else second[point]
+            previous, point = point, step
+    return count

@@ -22,9 +22,10 @@ from functools import cached_property
 import numpy as np
 import trimesh
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components, depth_first_order
+from scipy.sparse.csgraph import depth_first_order
 from scipy.spatial import Delaunay, QhullError
 
+from . import _kernels
 from ._orientation import Orientation, check_orient
 from ._parameters import check_alpha, check_find_alpha
 from ._surface import molar_face_areas, molar_scale, prepare_surface
@@ -157,40 +158,23 @@ class AlphaShape:
                 "the footprint has no area: the vertices' x-y positions lie on one line"
             ) from exc
         simplices, neighbors = tri.simplices, tri.neighbors
-        a = points[simplices[:, 0]]
-        b = points[simplices[:, 1]] - a
-        c = points[simplices[:, 2]] - a
-        d = 2.0 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
-        bb, cc = (b * b).sum(axis=1), (c * c).sum(axis=1)
-        ux = (c[:, 1] * bb - b[:, 1] * cc) / d
-        uy = (b[:, 0] * cc - c[:, 0] * bb) / d
+        ux, uy = np.empty(len(simplices)), np.empty(len(simplices))
+        _kernels.circumcentres(points, simplices, ux, uy)
         radius = np.hypot(ux, uy)
 
-        # Each edge once: the side k of triangle t (opposite its vertex k),
-        # taken from the triangle with the lower index or the only one.
-        t = np.repeat(np.arange(len(simplices)), 3)
-        k = np.tile(np.arange(3), len(simplices))
-        other = neighbors[t, k]
-        once = (other == -1) | (t < other)
-        t, k, other = t[once], k[once], other[once]
+        most = 3 * len(simplices)
+        ends = np.empty((most, 2), dtype=np.int64)
+        t = np.empty(most, dtype=np.int64)
+        other = np.empty(most, dtype=np.int64)
+        midpoint_on = np.empty(most, dtype=bool)
+        count = _kernels.delaunay_edges(points, simplices, neighbors, ends, t, other, midpoint_on)
+        ends, t, other, midpoint_on = ends[:count], t[:count], other[:count], midpoint_on[:count]
         hull = other == -1
-        other = np.where(hull, t, other)
-        i = simplices[t, (k + 1) % 3]
-        j = simplices[t, (k + 2) % 3]
-        apex_t = simplices[t, k]
-        apex_o = np.where(hull, apex_t, simplices[other].sum(axis=1) - i - j)
-
-        pi, pj = points[i], points[j]
-
-        def not_obtuse(apex):
-            p = points[apex]
-            return ((pi - p) * (pj - p)).sum(axis=1) >= 0
-
-        midpoint_on = not_obtuse(apex_t) & (hull | not_obtuse(apex_o))
         r_t = radius[t]
         r_o = np.where(hull, np.inf, radius[other])
+        pi, pj = points[ends[:, 0]], points[ends[:, 1]]
         half = 0.5 * np.hypot(pj[:, 0] - pi[:, 0], pj[:, 1] - pi[:, 1])
-        self.edges = np.column_stack([i, j])
+        self.edges = ends
         self.alpha_min = np.where(midpoint_on, half, np.minimum(r_t, r_o))
         self.alpha_max = np.maximum(r_t, r_o)
         self._hull = hull
@@ -235,12 +219,7 @@ class AlphaShape:
                 f"the boundary is not closed: the point at x, y = {self._where(loose[0])} "
                 "ends a dangling segment"
             )
-        used = np.flatnonzero(degree)
-        graph = coo_matrix(
-            (np.ones(len(segments)), (segments[:, 0], segments[:, 1])), shape=(self.n, self.n)
-        )
-        pieces = connected_components(graph, directed=False)[1][used]
-        loops = len(np.unique(pieces))
+        loops = _kernels.loops(segments, self.n)
         if loops > 1:
             return f"the boundary segments form {loops} separate loops, not one outline"
         return None
@@ -426,7 +405,7 @@ def rfi(
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
     vertices = surface.vertices
-    area_3d = molar_area_3d(vertices, surface.faces)
+    area_3d = float(surface.single_precision_areas().sum())
 
     mean = vertices.mean(axis=0)
     points = np.vstack([vertices - mean, np.zeros((1, 3))])[:, :2]
