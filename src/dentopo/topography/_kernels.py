@@ -393,3 +393,29 @@ def loops(segments, n):
             step = first[point] if first[point] != previous else second[point]
             previous, point = point, step
     return count
+
+
+@njit(cache=True)
+def loop_order(segments, n, order):
+    """The points of one closed loop of segments in order, into `order`.
+
+    The loop starts at its lowest point index and runs first to the lower
+    of that point's two neighbours, whatever the order of `segments`.
+    """
+    first = np.full(n, -1, dtype=np.int64)
+    second = np.full(n, -1, dtype=np.int64)
+    start = n
+    for s in range(segments.shape[0]):
+        for a, b in ((segments[s, 0], segments[s, 1]), (segments[s, 1], segments[s, 0])):
+            if first[a] < 0:
+                first[a] = b
+            else:
+                second[a] = b
+            start = min(start, a)
+    previous = start
+    point = min(first[start], second[start])
+    order[0] = start
+    for k in range(1, order.shape[0]):
+        order[k] = point
+        step = first[point] if first[point] != previous else second[point]
+        previous, point = point, step

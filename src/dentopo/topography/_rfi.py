@@ -21,11 +21,10 @@ from functools import cached_property
 
 import numpy as np
 import trimesh
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import depth_first_order
-from scipy.spatial import Delaunay, QhullError
+from scipy.spatial import QhullError
 
 from . import _kernels
+from ._delaunay import delaunay
 from ._orientation import Orientation, check_orient
 from ._parameters import check_alpha, check_find_alpha
 from ._surface import molar_face_areas, molar_scale, prepare_surface
@@ -152,12 +151,11 @@ class AlphaShape:
         self.n = len(points)
         self.positions = points if positions is None else positions
         try:
-            tri = Delaunay(points)
+            simplices, neighbors = delaunay(points)
         except QhullError as exc:
             raise ValueError(
                 "the footprint has no area: the vertices' x-y positions lie on one line"
             ) from exc
-        simplices, neighbors = tri.simplices, tri.neighbors
         ux, uy = np.empty(len(simplices)), np.empty(len(simplices))
         _kernels.circumcentres(points, simplices, ux, uy)
         radius = np.hypot(ux, uy)
@@ -298,9 +296,13 @@ class AlphaShape:
 
 
 def _chain(segments: np.ndarray, n: int) -> np.ndarray:
-    """The segments of one closed loop, reordered head to tail."""
-    graph = coo_matrix((np.ones(len(segments)), (segments[:, 0], segments[:, 1])), shape=(n, n))
-    order = depth_first_order(graph, int(segments[0, 0]), directed=False, return_predecessors=False)
+    """The segments of one closed loop, head to tail from its lowest point index.
+
+    The loop runs first towards the lower of that point's two neighbours, so
+    the order does not depend on how the triangulation listed its edges.
+    """
+    order = np.empty(len(segments), dtype=np.int64)
+    _kernels.loop_order(segments, n, order)
     return np.column_stack([order, np.roll(order, -1)])
 
 
