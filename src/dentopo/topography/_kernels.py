@@ -419,3 +419,45 @@ def loop_order(segments, n, order):
         order[k] = point
         step = first[point] if first[point] != previous else second[point]
         previous, point = point, step
+
+
+@njit(cache=True)
+def face_mean_z(vertices, faces, out):
+    """Each face's mean height ``(z1 + z2 + z3) / 3``, as ``vertices[faces, 2].mean(axis=1)``."""
+    for f in range(faces.shape[0]):
+        out[f] = (
+            vertices[faces[f, 0], 2] + vertices[faces[f, 1], 2] + vertices[faces[f, 2], 2]
+        ) / 3.0
+
+
+@njit(cache=True)
+def compensated_dot(values, weights):
+    """``sum(values * weights)`` in twice the working precision (Ogita, Rump and Oishi's Dot2).
+
+    Sequential, so the same at any thread count (a BLAS dot product splits
+    long sums between threads); the error-free product and sum terms make it
+    as accurate as if computed in quadruple precision and rounded once, which
+    is how R's long-double ``sum`` comes to the same double.
+    """
+    total = 0.0
+    error = 0.0
+    split = 134217729.0  # 2**27 + 1: Dekker's split of a double into two halves
+    for i in range(values.shape[0]):
+        x = float(values[i])
+        y = weights[i]
+        product = x * y
+        t = split * x
+        x_high = t - (t - x)
+        x_low = x - x_high
+        t = split * y
+        y_high = t - (t - y)
+        y_low = y - y_high
+        product_error = x_low * y_low - (
+            ((product - x_high * y_high) - x_low * y_high) - x_high * y_low
+        )
+        t = total + product
+        z = t - total
+        sum_error = (total - (t - z)) + (product - z)
+        total = t
+        error += sum_error + product_error
+    return total + error

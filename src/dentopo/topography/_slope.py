@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from . import _kernels
 from ._orientation import Orientation, check_orient
 from ._surface import prepare_surface
 
@@ -86,8 +87,10 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
        whole degrees (half to even).
     3. **Mean.** ``|sum(slope * area) / sum(area)|`` with face areas in mesh
        units (molaR's default ``Guess = FALSE``), computed in single precision
-       as molaR's mesh reader computes them; the mean then equals molaR's to
-       the last bit on its reference meshes.
+       as molaR's mesh reader computes them; the weighted sum is compensated
+       (twice double precision, as R's long-double sum nearly is) and
+       sequential, so the mean equals molaR's to the last bit on its reference
+       meshes and does not depend on the number of threads.
 
     The result does not depend on translation, uniform scale or the order of
     vertices and faces; it does depend on orientation.
@@ -140,7 +143,7 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
 def _slope_of(surface) -> SlopeResult:
     per_face = face_slopes(surface.normals)
     area = surface.single_precision_areas()
-    mean = float(np.dot(per_face, area) / area.sum())
+    mean = float(_kernels.compensated_dot(per_face, area) / area.sum())
     return SlopeResult(
         slope=abs(mean),
         vertices=len(surface.vertices),
