@@ -98,51 +98,53 @@ def _edge_buckets(faces, n_vertices):
 
 
 @njit(cache=True)
-def edge_uses(faces, n_vertices, uses):
-    """``uses[e]``: how many directed edges share directed edge e's two vertices (e itself too).
+def edge_groups(faces, n_vertices, group_start, group_edge):
+    """The 3m directed edges grouped by their two vertices: one group per undirected edge.
 
-    A boundary edge (used by one face) has ``uses == 1``.
+    Edge ``e = k * m + f`` runs from ``faces[f, k]`` to ``faces[f, (k + 1) % 3]``.
+    Writes the edges of each group into ``group_edge`` (3m slots) and the
+    group boundaries into ``group_start`` (3m + 1 slots); returns the number
+    of groups.  A boundary edge is a group of one.
     """
     start, other, edge = _edge_buckets(faces, n_vertices)
+    groups = 0
+    group_start[0] = 0
     for v in range(n_vertices):
-        for p in range(start[v], start[v + 1]):
-            count = 0
-            for q in range(start[v], start[v + 1]):
-                if other[q] == other[p]:
-                    count += 1
-            uses[edge[p]] = count
+        lo, hi = start[v], start[v + 1]
+        # sort the bucket by the other vertex (buckets hold a few edges: insertion sort)
+        for p in range(lo + 1, hi):
+            o, e = other[p], edge[p]
+            q = p - 1
+            while q >= lo and other[q] > o:
+                other[q + 1] = other[q]
+                edge[q + 1] = edge[q]
+                q -= 1
+            other[q + 1] = o
+            edge[q + 1] = e
+        for p in range(lo, hi):
+            group_edge[p] = edge[p]
+            if p + 1 == hi or other[p + 1] != other[p]:
+                groups += 1
+                group_start[groups] = p + 1
+    return groups
 
 
 @njit(cache=True)
-def edge_faces(faces, n_vertices, group_start, group_face):
-    """The faces of every edge used by two or more faces, grouped by edge.
-
-    Writes the faces of each group into ``group_face`` (3m slots) and the
-    group boundaries into ``group_start`` (3m + 1 slots); returns the number
-    of groups.
-    """
+def boundary_ends(faces, group_start, group_edge, groups, ends):
+    """The directed edges used by one face, in the order of ``e``, into `ends`; returns how many."""
     m = faces.shape[0]
-    start, other, edge = _edge_buckets(faces, n_vertices)
-    taken = np.zeros(3 * m, dtype=np.bool_)
-    groups = 0
-    used = 0
-    group_start[0] = 0
-    for v in range(n_vertices):
-        for p in range(start[v], start[v + 1]):
-            if taken[p]:
-                continue
-            first = used
-            for q in range(p, start[v + 1]):
-                if not taken[q] and other[q] == other[p]:
-                    taken[q] = True
-                    group_face[used] = edge[q] % m
-                    used += 1
-            if used - first < 2:
-                used = first
-                continue
-            groups += 1
-            group_start[groups] = used
-    return groups
+    alone = np.zeros(3 * m, dtype=np.bool_)
+    for g in range(groups):
+        if group_start[g + 1] - group_start[g] == 1:
+            alone[group_edge[group_start[g]]] = True
+    count = 0
+    for e in range(3 * m):
+        if alone[e]:
+            k, f = e // m, e % m
+            ends[count, 0] = faces[f, k]
+            ends[count, 1] = faces[f, (k + 1) % 3]
+            count += 1
+    return count
 
 
 @njit(cache=True)
@@ -156,19 +158,22 @@ def _find(parent, x):
 
 
 @njit(cache=True)
-def patch_labels(group_start, group_face, groups, face_bin, bins, face_patch):
+def patch_labels(group_start, group_edge, groups, face_bin, bins, face_patch):
     """molaR's patches: faces of one bin joined across an edge two faces of that bin use.
 
-    Writes each face's patch label into ``face_patch``, patches numbered in
-    the order of their first face; returns the number of patches.
+    The groups are :func:`edge_groups`'s.  Writes each face's patch label
+    into ``face_patch``, patches numbered in the order of their first face;
+    returns the number of patches.
     """
     m = face_bin.shape[0]
     parent = np.arange(m)
     count = np.zeros(bins + 1, dtype=np.int64)
     for g in range(groups):
         lo, hi = group_start[g], group_start[g + 1]
+        if hi - lo < 2:
+            continue
         if hi - lo == 2:
-            a, b = group_face[lo], group_face[lo + 1]
+            a, b = group_edge[lo] % m, group_edge[lo + 1] % m
             if face_bin[a] == face_bin[b]:
                 ra, rb = _find(parent, a), _find(parent, b)
                 if ra != rb:
@@ -176,13 +181,13 @@ def patch_labels(group_start, group_face, groups, face_bin, bins, face_patch):
             continue
         count[:] = 0
         for p in range(lo, hi):
-            count[face_bin[group_face[p]]] += 1
+            count[face_bin[group_edge[p] % m]] += 1
         for bin_ in range(bins + 1):
             if count[bin_] != 2:
                 continue
             a = -1
             for p in range(lo, hi):
-                f = group_face[p]
+                f = group_edge[p] % m
                 if face_bin[f] != bin_:
                     continue
                 if a < 0:

@@ -184,23 +184,13 @@ def _check_min_area(value) -> float:
 class _Incidence:
     """Which faces share which edges: computed once per mesh, used at every rotation.
 
-    ``group_face[group_start[g]:group_start[g + 1]]`` are the faces of edge
-    group g, one group per edge used by two or more faces; joins depend on
-    how many faces of one bin use the edge.
+    The surface's edge groups (:meth:`Surface.edge_groups`): joins depend on
+    how many faces of one bin use an edge.
     """
 
-    def __init__(self, faces: np.ndarray, n_vertices: int):
-        m = len(faces)
-        self.group_start = np.empty(3 * m + 1, dtype=np.int64)
-        self.group_face = np.empty(3 * m, dtype=np.int64)
-        self.groups = _kernels.edge_faces(faces, n_vertices, self.group_start, self.group_face)
-        self.faces = m
-
-    @classmethod
-    def of(cls, surface: Surface) -> _Incidence:
-        """The incidence of `surface`'s faces, kept with the surface (turned or not)."""
-        base = surface.cleaned
-        return base._cached("opc_incidence", lambda: cls(base.faces, len(base.vertices)))
+    def __init__(self, surface: Surface):
+        self.group_start, self.group_edge, self.groups = surface.edge_groups()
+        self.faces = len(surface.faces)
 
     def patches(self, face_bin: np.ndarray) -> tuple[int, np.ndarray]:
         """The number of patches and each face's patch, numbered in the order of first faces.
@@ -210,7 +200,7 @@ class _Incidence:
         """
         face_patch = np.empty(self.faces, dtype=np.int64)
         count = _kernels.patch_labels(
-            self.group_start, self.group_face, self.groups, face_bin, BINS, face_patch
+            self.group_start, self.group_edge, self.groups, face_bin, BINS, face_patch
         )
         return count, face_patch
 
@@ -372,7 +362,7 @@ def opc(
     min_area = _check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
-    incidence = _Incidence.of(surface)
+    incidence = _Incidence(surface)
     return _opc_of(surface, incidence, rotation, min_faces, min_area, None)
 
 
@@ -449,7 +439,7 @@ def opcr(
     min_area = _check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
-    incidence = _Incidence.of(surface)
+    incidence = _Incidence(surface)
     cleaned = surface.trimesh()
     rotations = opcr_rotations(steps, step)
     results = [_opc_of(surface, incidence, r, min_faces, min_area, cleaned) for r in rotations]

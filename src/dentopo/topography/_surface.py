@@ -90,31 +90,37 @@ class Surface:
             self._cache[key] = compute()
         return self._cache[key]
 
-    def edge_uses(self) -> np.ndarray:
-        """(3m,) int64: for directed edge ``e = k * m + f``, how many faces use its two vertices.
+    def edge_groups(self) -> tuple[np.ndarray, np.ndarray, int]:
+        """The directed edges grouped by undirected edge (:func:`_kernels.edge_groups`).
 
-        Edge e runs from ``faces[f, k]`` to ``faces[f, (k + 1) % 3]``; a
-        boundary edge is used by one face.  Shared with the turned surface.
+        ``(group_start, group_edge, groups)``: the edges of group g are
+        ``group_edge[group_start[g]:group_start[g + 1]]``, edge ``e = k * m + f``
+        running from ``faces[f, k]`` to ``faces[f, (k + 1) % 3]``; a boundary
+        edge is a group of one.  Computed once, shared with the turned surface.
         """
 
         def compute():
-            uses = np.empty(3 * len(self.faces), dtype=np.int64)
-            _kernels.edge_uses(self.faces, len(self.vertices), uses)
-            return uses
+            m = len(self.faces)
+            group_start = np.empty(3 * m + 1, dtype=np.int64)
+            group_edge = np.empty(3 * m, dtype=np.int64)
+            groups = _kernels.edge_groups(self.faces, len(self.vertices), group_start, group_edge)
+            return group_start, group_edge, groups
 
-        if self.source is not None:
-            return self.source.edge_uses()
-        return self._cached("edge_uses", compute)
+        return self.cleaned._cached("edge_groups", compute)
+
+    def edge_uses(self) -> np.ndarray:
+        """(3m,) int64: for directed edge ``e = k * m + f``, how many faces use its two vertices."""
+        group_start, group_edge, groups = self.edge_groups()
+        sizes = np.diff(group_start[: groups + 1])
+        uses = np.empty(len(group_edge), dtype=np.int64)
+        uses[group_edge] = np.repeat(sizes, sizes)
+        return uses
 
     def boundary_edges(self) -> np.ndarray:
         """(k, 2) int64: the directed edges no other face shares (as mesh.boundary_edges)."""
-        once = self.edge_uses() == 1
-        m = len(self.faces)
-        ends = np.empty((3 * m, 2), dtype=np.int64)
-        for k in range(3):
-            ends[k * m : (k + 1) * m, 0] = self.faces[:, k]
-            ends[k * m : (k + 1) * m, 1] = self.faces[:, (k + 1) % 3]
-        return ends[once]
+        ends = np.empty((3 * len(self.faces), 2), dtype=np.int64)
+        count = _kernels.boundary_ends(self.faces, *self.edge_groups(), ends)
+        return ends[:count]
 
     def single_precision_areas(self) -> np.ndarray:
         """Face areas as molaR's reader computes them (:func:`molar_face_areas`); a copy."""
