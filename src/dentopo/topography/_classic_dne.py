@@ -358,5 +358,5 @@ def classic_dne(
         face_dne=face_dne,
         face_kappa=values,
         excluded=excluded,
-        mesh=trimesh.Trimesh(vertices, faces, process=False),
+        mesh=surface.trimesh(),
     )
