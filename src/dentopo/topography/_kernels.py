@@ -107,25 +107,33 @@ def edge_groups(faces, n_vertices, group_start, group_edge):
     of groups.  A boundary edge is a group of one.
     """
     start, other, edge = _edge_buckets(faces, n_vertices)
+    stamp = np.full(n_vertices, -1, dtype=np.int64)
+    place = np.empty(n_vertices, dtype=np.int64)
     groups = 0
     group_start[0] = 0
     for v in range(n_vertices):
         lo, hi = start[v], start[v + 1]
-        # sort the bucket by the other vertex (buckets hold a few edges: insertion sort)
-        for p in range(lo + 1, hi):
-            o, e = other[p], edge[p]
-            q = p - 1
-            while q >= lo and other[q] > o:
-                other[q + 1] = other[q]
-                edge[q + 1] = edge[q]
-                q -= 1
-            other[q + 1] = o
-            edge[q + 1] = e
+        # count the edges to each other vertex, in the order the others first appear
         for p in range(lo, hi):
-            group_edge[p] = edge[p]
-            if p + 1 == hi or other[p + 1] != other[p]:
+            o = other[p]
+            if stamp[o] != v:
+                stamp[o] = v
+                place[o] = 0
+            place[o] += 1
+        end = lo
+        for p in range(lo, hi):
+            o = other[p]
+            if stamp[o] == v:
+                stamp[o] = -2 - v  # placed
+                size = place[o]
+                place[o] = end
+                end += size
                 groups += 1
-                group_start[groups] = p + 1
+                group_start[groups] = end
+        for p in range(lo, hi):
+            o = other[p]
+            group_edge[place[o]] = edge[p]
+            place[o] += 1
     return groups
 
 
@@ -344,14 +352,16 @@ def _not_obtuse(points, i, j, apex):
 
 
 @njit(cache=True)
-def delaunay_edges(points, simplices, neighbors, ends, triangle, other, midpoint_on):
-    """Every Delaunay edge once, with its triangles and whether its midpoint is on its Voronoi edge.
+def alpha_intervals(points, simplices, neighbors, radius, ends, alpha_min, alpha_max, hull):
+    """Every Delaunay edge once, with the alphas for which it is on the alpha shape's boundary.
 
     Edge: side k of triangle t (opposite its vertex k), from the triangle with
-    the lower index or the only one, in the order of ``(t, k)``.  ``other`` is
-    the triangle across it (-1 on the convex hull).  ``midpoint_on``: both
-    opposite angles at most 90 degrees (only the one for a hull edge).
-    Returns the number of edges written.
+    the lower index or the only one, in the order of ``(t, k)``; ``hull``
+    where no triangle lies across it.  ``alpha_min`` is half the edge's
+    length when its midpoint lies on its Voronoi edge (both opposite angles
+    at most 90 degrees; only the one for a hull edge), else the smaller
+    circumradius (`radius`) of its triangles; ``alpha_max`` the larger
+    (infinite on the hull).  Returns the number of edges written.
     """
     count = 0
     for t in range(simplices.shape[0]):
@@ -363,13 +373,23 @@ def delaunay_edges(points, simplices, neighbors, ends, triangle, other, midpoint
             j = simplices[t, (k + 2) % 3]
             ends[count, 0] = i
             ends[count, 1] = j
-            triangle[count] = t
-            other[count] = o
             on = _not_obtuse(points, i, j, simplices[t, k])
-            if on and o != -1:
-                apex = simplices[o, 0] + simplices[o, 1] + simplices[o, 2] - i - j
-                on = _not_obtuse(points, i, j, apex)
-            midpoint_on[count] = on
+            r_t = radius[t]
+            if o == -1:
+                r_o = np.inf
+            else:
+                r_o = radius[o]
+                if on:
+                    apex = simplices[o, 0] + simplices[o, 1] + simplices[o, 2] - i - j
+                    on = _not_obtuse(points, i, j, apex)
+            if on:
+                alpha_min[count] = 0.5 * math.hypot(
+                    points[j, 0] - points[i, 0], points[j, 1] - points[i, 1]
+                )
+            else:
+                alpha_min[count] = min(r_t, r_o)
+            alpha_max[count] = max(r_t, r_o)
+            hull[count] = o == -1
             count += 1
     return count
 

@@ -115,10 +115,11 @@ def first_occurrence(points: np.ndarray) -> np.ndarray:
     """
 
     def seen_before(values: np.ndarray) -> np.ndarray:
-        order = np.argsort(values, kind="stable")
+        order = np.argsort(values)  # equal values in any order: their first is found below
         ordered = values[order]
-        repeat = np.empty(len(values), dtype=bool)
-        repeat[order] = np.r_[False, ordered[1:] == ordered[:-1]]
+        starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
+        repeat = np.ones(len(values), dtype=bool)
+        repeat[np.minimum.reduceat(order, starts)] = False
         return repeat
 
     return ~(seen_before(points[:, 0]) & seen_before(points[:, 1]))
@@ -162,20 +163,15 @@ class AlphaShape:
 
         most = 3 * len(simplices)
         ends = np.empty((most, 2), dtype=np.int64)
-        t = np.empty(most, dtype=np.int64)
-        other = np.empty(most, dtype=np.int64)
-        midpoint_on = np.empty(most, dtype=bool)
-        count = _kernels.delaunay_edges(points, simplices, neighbors, ends, t, other, midpoint_on)
-        ends, t, other, midpoint_on = ends[:count], t[:count], other[:count], midpoint_on[:count]
-        hull = other == -1
-        r_t = radius[t]
-        r_o = np.where(hull, np.inf, radius[other])
-        pi, pj = points[ends[:, 0]], points[ends[:, 1]]
-        half = 0.5 * np.hypot(pj[:, 0] - pi[:, 0], pj[:, 1] - pi[:, 1])
-        self.edges = ends
-        self.alpha_min = np.where(midpoint_on, half, np.minimum(r_t, r_o))
-        self.alpha_max = np.maximum(r_t, r_o)
-        self._hull = hull
+        alpha_min, alpha_max = np.empty(most), np.empty(most)
+        hull = np.empty(most, dtype=bool)
+        count = _kernels.alpha_intervals(
+            points, simplices, neighbors, radius, ends, alpha_min, alpha_max, hull
+        )
+        self.edges = ends[:count]
+        self.alpha_min = alpha_min[:count]
+        self.alpha_max = alpha_max[:count]
+        self._hull = hull[:count]
         self._valid: dict[int, bool] = {}
 
     @cached_property
