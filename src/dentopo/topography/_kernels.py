@@ -68,15 +68,16 @@ def single_precision_areas(vertices32, faces, area):
 
 
 @njit(cache=True)
-def _edge_buckets(faces, n_vertices):
+def _edge_buckets(faces, start, other, edge):
     """The 3m directed edges bucketed by their lower vertex.
 
     Edge ``e = k * m + f`` runs from ``faces[f, k]`` to ``faces[f, (k + 1) % 3]``
     (the layout of :func:`dentopo.mesh.boundary_edges`).  Bucket ``v`` is
-    ``start[v]:start[v + 1]`` of ``other`` (the higher vertex) and ``edge``.
+    ``start[v]:start[v + 1]`` of ``other`` (the higher vertex) and ``edge``;
+    `start` (n + 1 slots) comes zeroed.
     """
     m = faces.shape[0]
-    start = np.zeros(n_vertices + 1, dtype=np.int64)
+    n_vertices = start.shape[0] - 1
     for k in range(3):
         for f in range(m):
             a, b = faces[f, k], faces[f, (k + 1) % 3]
@@ -84,8 +85,6 @@ def _edge_buckets(faces, n_vertices):
     for v in range(n_vertices):
         start[v + 1] += start[v]
     fill = start[:-1].copy()
-    other = np.empty(3 * m, dtype=np.int64)
-    edge = np.empty(3 * m, dtype=np.int64)
     for k in range(3):
         for f in range(m):
             a, b = faces[f, k], faces[f, (k + 1) % 3]
@@ -94,7 +93,6 @@ def _edge_buckets(faces, n_vertices):
             other[p] = max(a, b)
             edge[p] = k * m + f
             fill[low] = p + 1
-    return start, other, edge
 
 
 @njit(cache=True)
@@ -106,7 +104,10 @@ def edge_groups(faces, n_vertices, group_start, group_edge):
     group boundaries into ``group_start`` (3m + 1 slots); returns the number
     of groups.  A boundary edge is a group of one.
     """
-    start, other, edge = _edge_buckets(faces, n_vertices)
+    start = np.zeros(n_vertices + 1, dtype=np.int64)
+    other = np.empty(3 * faces.shape[0], dtype=np.int64)
+    edge = np.empty(3 * faces.shape[0], dtype=np.int64)
+    _edge_buckets(faces, start, other, edge)
     stamp = np.full(n_vertices, -1, dtype=np.int64)
     place = np.empty(n_vertices, dtype=np.int64)
     groups = 0
