@@ -108,7 +108,12 @@ def test_a_surface_is_never_modified_by_the_metrics(tooth):
               if isinstance(getattr(surface, f.name), np.ndarray)}  # fmt: skip
     for call in CALLS.values():
         result = call(surface, "auto")
-        result.mesh.vertices[:] = 0.0  # a result's mesh is its own copy
+        result.mesh.vertices[:] = 0.0  # a result's mesh and arrays are its own
+        for value in vars(result).values():
+            if isinstance(value, np.ndarray):
+                value[...] = 0
+    with pytest.raises(ValueError, match="read-only"):
+        surface.vertices[0, 0] = 1.0
     for name, values in before.items():
         assert np.array_equal(getattr(surface, name), values), name
 

@@ -337,7 +337,7 @@ def classic_dne(
     excluded = at_boundary | outlier
     face_dne = np.where(excluded, 0.0, energy * area_scaled)
 
-    face_area = surface.area
+    face_area = surface.area.copy()  # the result's own
     return ClassicDNEResult(
         dne=float(face_dne.sum()),
         convex_dne=float(face_dne[convex].sum()),

@@ -33,7 +33,8 @@ class Surface:
 
     Make one with :func:`prepare_surface`; every topography metric accepts it
     in place of a mesh, so that a mesh measured by several metrics is cleaned,
-    and its orientation checked, once.  Treat its arrays as read-only.
+    and its orientation checked, once.  Its arrays are read-only: what is
+    computed from them is kept with them.
 
     Attributes
     ----------
@@ -64,6 +65,11 @@ class Surface:
     orientation: Orientation | None = None
     source: Surface | None = field(default=None, repr=False, compare=False)
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        # what is computed from the arrays is kept with them: they must not change
+        for name in ("vertices", "faces", "cross", "area", "normals"):
+            getattr(self, name).flags.writeable = False
 
     def warn_orientation(self, stacklevel: int = 3) -> None:
         """Warn (``UserWarning``) if the crown is measured pointing to -z."""
