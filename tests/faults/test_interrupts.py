@@ -323,6 +323,11 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     rows = struct.pack("<B3i", 3, 0, 1, 4) + struct.pack("<B4i", 4, 0, 1, 2, 3)
     mixed.write_bytes(MIXED_PLY_HEADER + points.tobytes() + rows)
     load_mesh(mixed)
+    from dentopo.topography import classic_dne, opcr, rfi, slope
+
+    for metric in (slope, opcr, classic_dne):
+        metric(crown)
+    rfi(crown, find_alpha=True)
 
     kernels = {}
     for info in pkgutil.walk_packages(dentopo.__path__, "dentopo."):

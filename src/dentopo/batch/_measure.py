@@ -1,8 +1,10 @@
 """Every metric a run asks for, on one mesh: one record, one failure per metric at most.
 
 A batch row holds ariaDNE and molaR's topography metrics side by side.  The
-mesh is read once; each metric is then computed on its own, and a metric that
-fails (RFI on a pinched footprint, say) leaves its cells empty and names its
+mesh is read once, and cleaned once for all of molaR's metrics (one
+:class:`dentopo.topography.Surface`, which also keeps the orientation found,
+so it is checked once); each metric is then computed on its own, and a metric
+that fails (RFI on a pinched footprint, say) leaves its cells empty and names its
 error, while the other metrics of the row are kept, as molaR_Batch carries on.
 """
 
@@ -27,6 +29,7 @@ from ..topography import (
     classic_dne,
     opc,
     opcr,
+    prepare_surface,
     rfi,
     rotation_key,
     rotations,
@@ -142,9 +145,19 @@ def _values(metric: str, result) -> dict:
     return result.to_dict()
 
 
+def _prepared(mesh):
+    """The surface molaR's metrics share, or the reason it could not be prepared."""
+    try:
+        return prepare_surface(mesh)
+    except (ValueError, TypeError, ArithmeticError) as exc:
+        return exc
+
+
 def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOptions, progress):
     if metric == "ariadne":
         return ariaDNE(mesh, progress=progress, **ariadne_options)
+    if isinstance(mesh, BaseException):  # every topography metric fails as it would alone
+        raise mesh
     if metric == "classic":
         return classic_dne(mesh)
     if metric == "rfi":
@@ -195,6 +208,7 @@ def measure_mesh(
     ariadne_options = {} if ariadne_options is None else ariadne_options
     if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
         mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
+    surface = _prepared(mesh) if metrics != ("ariadne",) else None
     record: dict = {}
     results: dict = {}
     errors: dict = {}
@@ -202,8 +216,9 @@ def measure_mesh(
         keys = METRIC_KEYS[metric]
         if metric != "ariadne" and progress is not None:
             progress(metric)
+        given = mesh if metric == "ariadne" else surface
         try:
-            result = _compute(metric, mesh, ariadne_options, options, progress)
+            result = _compute(metric, given, ariadne_options, options, progress)
         except (ValueError, TypeError, ArithmeticError) as exc:  # this metric, on this mesh
             errors[metric] = reason(exc)
             record.update(dict.fromkeys(keys))

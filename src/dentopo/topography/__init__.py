@@ -7,7 +7,10 @@ its alpha-shape footprint and molaR's search for an alpha (``_rfi``, molaR's
 ``RFI``).  They share molaR's surface preparation (``_surface``) and the
 orientation check of the metrics that assume the crown points to +z
 (``_orientation``) and the checks of their parameters (``_parameters``);
-``_metrics`` names them all, ariaDNE included, for a batch.
+``_metrics`` names them all, ariaDNE included, for a batch.  Their per-face
+and per-edge passes are compiled (``_kernels``), and RFI's Delaunay
+triangulation is a compiled, certified sweep with qhull as the fallback
+(``_delaunay``).
 
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.

@@ -17,8 +17,8 @@ from numbers import Real
 import numpy as np
 import trimesh
 
-from ..mesh import boundary_edges
-from ._surface import molar_scale, prepare_surface
+from . import _kernels
+from ._surface import Surface, molar_scale, prepare_surface
 
 BOUNDARY_MODES = ("vertex", "leg", "none")
 OUTLIER_MODES = ("combined", "separate")
@@ -135,23 +135,14 @@ def _check_real(name: str, value, *, low: float, high: float) -> float:
     return value
 
 
-def _unit_rows(x: np.ndarray) -> np.ndarray:
-    length = np.linalg.norm(x, axis=1, keepdims=True)
-    return np.divide(x, length, out=np.zeros_like(x), where=length > 0)
-
-
 def energy_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Vertex normals for the energy: normalised unweighted mean of unit face normals.
 
     A vertex used by exactly one face gets a zero normal, as in molaR; a
     degenerate face contributes a zero normal.
     """
-    tri = vertices[faces]
-    unit = _unit_rows(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]))
-    total = np.zeros_like(vertices)
-    for k in range(3):
-        np.add.at(total, faces[:, k], unit)
-    normals = _unit_rows(total)
+    normals = np.empty_like(vertices)
+    _kernels.unit_vertex_sums(vertices, faces, True, normals)
     uses = np.bincount(faces.ravel(), minlength=len(vertices))
     normals[uses == 1] = 0.0
     return normals
@@ -163,12 +154,9 @@ def area_weighted_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray
     This is what molaR's mesh reader (vcglib's normalised per-vertex normals)
     attaches to the mesh, and what molaR's convex/concave test uses.
     """
-    tri = vertices[faces]
-    weighted = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    total = np.zeros_like(vertices)
-    for k in range(3):
-        np.add.at(total, faces[:, k], weighted)
-    return _unit_rows(total)
+    normals = np.empty_like(vertices)
+    _kernels.unit_vertex_sums(vertices, faces, False, normals)
+    return normals
 
 
 def face_energy_density(
@@ -176,22 +164,17 @@ def face_energy_density(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per-face Dirichlet energy density ``trace(G^-1 H)`` and area ``sqrt(det G)/2``.
 
-    Zero density where the 1-norm reciprocal condition number of ``G`` is
-    below ``RCOND_MIN``.
+    For a face with vertices 1, 2, 3: ``a = x2 - x1``, ``b = x3 - x1``,
+    ``c = n2 - n1``, ``d = n3 - n1``, ``G = [[a.a, a.b], [a.b, b.b]]``,
+    ``H = [[c.c, c.d], [c.d, d.d]]``; the density is
+    ``(b.b c.c - 2 a.b c.d + a.a d.d) / det G``.  Zero density where the
+    1-norm reciprocal condition number of ``G`` is below ``RCOND_MIN``: for a
+    symmetric 2x2 matrix, ``||G||_1 = ||G^-1||_1 * |det G|``, so it is
+    ``|det G| / ||G||_1**2`` exactly.
     """
-    x, n = vertices[faces], normals[faces]
-    a, b = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
-    c, d = n[:, 1] - n[:, 0], n[:, 2] - n[:, 0]
-    gaa, gab, gbb = (a * a).sum(1), (a * b).sum(1), (b * b).sum(1)
-    hcc, hcd, hdd = (c * c).sum(1), (c * d).sum(1), (d * d).sum(1)
-    det = gaa * gbb - gab * gab
-    # for a symmetric 2x2 matrix, ||G||_1 = ||G^-1||_1 * |det G|, both exactly
-    norm1 = np.maximum(np.abs(gaa) + np.abs(gab), np.abs(gab) + np.abs(gbb))
-    rcond = np.divide(np.abs(det), norm1**2, out=np.zeros_like(det), where=norm1 > 0)
-    ok = rcond >= RCOND_MIN
-    energy = np.zeros(len(faces))
-    energy[ok] = (gbb * hcc - 2.0 * gab * hcd + gaa * hdd)[ok] / det[ok]
-    area = 0.5 * np.sqrt(np.maximum(det, 0.0))
+    energy = np.empty(len(faces))
+    area = np.empty(len(faces))
+    _kernels.energy_density(vertices, faces, normals, RCOND_MIN, energy, area)
     return energy, area
 
 
@@ -201,32 +184,28 @@ def face_kappa(vertices: np.ndarray, faces: np.ndarray, normals: np.ndarray) -> 
     ``k(j, k) = ((n_j - n_k) . (x_j - x_k)) / |x_j - x_k|**2``.  Edge 1-2 is
     counted twice and edge 2-3 not at all: that is molaR's formula.
     """
-    x, n = vertices[faces], normals[faces]
-
-    def k(j, i):
-        dx = x[:, j] - x[:, i]
-        length2 = (dx * dx).sum(1)
-        dot = ((n[:, j] - n[:, i]) * dx).sum(1)
-        return np.divide(dot, length2, out=np.zeros_like(dot), where=length2 > 0)
-
-    return (k(1, 0) + k(2, 0) + k(0, 1)) / 3.0
+    values = np.empty(len(faces))
+    _kernels.kappa(vertices, faces, normals, values)
+    return values
 
 
-def _boundary_faces(faces: np.ndarray, n_vertices: int, mode: str) -> np.ndarray:
+def _boundary_faces(surface: Surface, mode: str) -> np.ndarray:
+    faces = surface.faces
     if mode == "none":
         return np.zeros(len(faces), dtype=bool)
-    edges = boundary_edges(faces, n_vertices)
-    if len(edges) == 0:
+    alone = surface.edge_uses() == 1
+    if not alone.any():
         return np.zeros(len(faces), dtype=bool)
+    m = len(faces)
     if mode == "vertex":
-        on_boundary = np.zeros(n_vertices, dtype=bool)
-        on_boundary[edges.ravel()] = True
+        on_boundary = np.zeros(len(surface.vertices), dtype=bool)
+        for k in range(3):  # edge k * m + f runs from faces[f, k] to faces[f, (k + 1) % 3]
+            owner = alone[k * m : (k + 1) * m]
+            on_boundary[faces[owner, k]] = True
+            on_boundary[faces[owner, (k + 1) % 3]] = True
         return on_boundary[faces].any(axis=1)
-    # "leg": faces that own a boundary edge (in either direction)
-    key = np.sort(edges, axis=1) @ np.array([n_vertices, 1], dtype=np.int64)
-    face_edges = np.stack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]], axis=1)
-    face_keys = np.sort(face_edges, axis=2) @ np.array([n_vertices, 1], dtype=np.int64)
-    return np.isin(face_keys, key).any(axis=1)
+    # "leg": faces that own a boundary edge (an edge used by one face belongs to that face)
+    return alone.reshape(3, m).any(axis=0)
 
 
 def classic_dne(
@@ -286,8 +265,10 @@ def classic_dne(
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        A triangle mesh, open or closed.  Never modified.
+    mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
+        A triangle mesh, open or closed, or one prepared once for several
+        metrics (:func:`dentopo.topography.prepare_surface`; measured as
+        cleaned, never turned).  Never modified.
     outliers : float, default 0.1
         Percentage of the highest energy densities discarded, in [0, 100].
     kappa : float, default 0.0
@@ -336,7 +317,7 @@ def classic_dne(
     boundary = _check_choice("boundary", boundary, BOUNDARY_MODES)
     outlier_mode = _check_choice("outlier_mode", outlier_mode, OUTLIER_MODES)
 
-    surface = prepare_surface(mesh)
+    surface = prepare_surface(mesh)  # a Surface given: its cleaned form, never turned
     vertices, faces = surface.vertices, surface.faces
 
     scaled = vertices * molar_scale(vertices)
@@ -344,7 +325,7 @@ def classic_dne(
     values = face_kappa(scaled, faces, area_weighted_normals(scaled, faces))
     convex = values > kappa
 
-    at_boundary = _boundary_faces(faces, len(vertices), boundary)
+    at_boundary = _boundary_faces(surface, boundary)
     kept = np.where(at_boundary, 0.0, energy)
     level = (100.0 - outliers) / 100.0
     outlier = np.zeros(len(faces), dtype=bool)
@@ -356,7 +337,7 @@ def classic_dne(
     excluded = at_boundary | outlier
     face_dne = np.where(excluded, 0.0, energy * area_scaled)
 
-    face_area = surface.area
+    face_area = surface.area.copy()  # the result's own
     return ClassicDNEResult(
         dne=float(face_dne.sum()),
         convex_dne=float(face_dne[convex].sum()),
@@ -377,5 +358,5 @@ def classic_dne(
         face_dne=face_dne,
         face_kappa=values,
         excluded=excluded,
-        mesh=trimesh.Trimesh(vertices, faces, process=False),
+        mesh=surface.trimesh(),
     )

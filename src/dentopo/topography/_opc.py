@@ -18,9 +18,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import trimesh
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
+from . import _kernels
 from ._metrics import rotation_key
 from ._metrics import rotations as opcr_rotations
 from ._orientation import Orientation, check_orient
@@ -185,42 +184,25 @@ def _check_min_area(value) -> float:
 class _Incidence:
     """Which faces share which edges: computed once per mesh, used at every rotation.
 
-    ``pairs`` (k, 2) holds the two faces of every edge used by exactly two
-    faces; ``multi_edge``/``multi_face`` list the incidences of the edges used
-    by three or more faces (sorted by edge), where joins depend on how many
-    faces of one bin use the edge.
+    The surface's edge groups (:meth:`Surface.edge_groups`): joins depend on
+    how many faces of one bin use an edge.
     """
 
-    def __init__(self, faces: np.ndarray, n_vertices: int):
-        m = len(faces)
-        ends = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-        ends.sort(axis=1)
-        key = ends[:, 0] * np.int64(n_vertices) + ends[:, 1]
-        face = np.tile(np.arange(m, dtype=np.int64), 3)
-        order = np.argsort(key, kind="stable")
-        key, face = key[order], face[order]
-        start = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
-        uses = np.diff(np.r_[start, len(key)])
-        two = start[uses == 2]
-        self.pairs = np.column_stack([face[two], face[two + 1]])
-        many = np.repeat(uses >= 3, uses)
-        self.multi_edge = np.repeat(np.arange(len(start)), uses)[many]
-        self.multi_face = face[many]
-        self.faces = m
+    def __init__(self, surface: Surface):
+        self.group_start, self.group_edge, self.groups = surface.edge_groups()
+        self.faces = len(surface.faces)
 
-    def joins(self, face_bin: np.ndarray) -> np.ndarray:
-        """Face pairs joined in one patch: an edge used by exactly two faces of their bin."""
-        a, b = self.pairs[:, 0], self.pairs[:, 1]
-        joined = self.pairs[face_bin[a] == face_bin[b]]
-        if len(self.multi_face) == 0:
-            return joined
-        group = self.multi_edge * (BINS + 1) + face_bin[self.multi_face]
-        order = np.argsort(group, kind="stable")
-        group, face = group[order], self.multi_face[order]
-        start = np.flatnonzero(np.r_[True, group[1:] != group[:-1]])
-        uses = np.diff(np.r_[start, len(group)])
-        two = start[uses == 2]
-        return np.concatenate([joined, np.column_stack([face[two], face[two + 1]])])
+    def patches(self, face_bin: np.ndarray) -> tuple[int, np.ndarray]:
+        """The number of patches and each face's patch, numbered in the order of first faces.
+
+        Two faces of one bin are joined across an edge used by exactly two
+        faces of that bin.
+        """
+        face_patch = np.empty(self.faces, dtype=np.int64)
+        count = _kernels.patch_labels(
+            self.group_start, self.group_edge, self.groups, face_bin, BINS, face_patch
+        )
+        return count, face_patch
 
 
 def face_bins(normals: np.ndarray, rotation: float) -> np.ndarray:
@@ -260,17 +242,7 @@ def _opc_of(
 ) -> OPCResult:
     m = len(surface.faces)
     face_bin = face_bins(surface.normals, rotation)
-    joins = incidence.joins(face_bin)
-    graph = coo_matrix(
-        (np.ones(len(joins), dtype=np.int8), (joins[:, 0], joins[:, 1])), shape=(m, m)
-    ).tocsr()
-    n_patches, labels = connected_components(graph, directed=False)
-    # number the patches in the order of their first face
-    first = np.full(n_patches, m, dtype=np.int64)
-    np.minimum.at(first, labels, np.arange(m, dtype=np.int64))
-    rank = np.empty(n_patches, dtype=np.int64)
-    rank[np.argsort(first, kind="stable")] = np.arange(n_patches)
-    face_patch = rank[labels].astype(np.int64)
+    n_patches, face_patch = incidence.patches(face_bin)
     patch_bin = np.empty(n_patches, dtype=np.int64)
     patch_bin[face_patch] = face_bin
     patch_faces = np.bincount(face_patch, minlength=n_patches).astype(np.int64)
@@ -334,8 +306,9 @@ def opc(
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        A triangle mesh.  Never modified.
+    mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
+        A triangle mesh, or one prepared once for several metrics
+        (:func:`dentopo.topography.prepare_surface`).  Never modified.
     rotation : float, default 0.0
         Degrees to rotate the aspects by (counter-clockwise seen from +z).
     min_faces : int, default 3
@@ -389,7 +362,7 @@ def opc(
     min_area = _check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
-    incidence = _Incidence(surface.faces, len(surface.vertices))
+    incidence = _Incidence(surface)
     return _opc_of(surface, incidence, rotation, min_faces, min_area, None)
 
 
@@ -413,8 +386,9 @@ def opcr(
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        A triangle mesh.  Never modified.
+    mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
+        A triangle mesh, or one prepared once for several metrics
+        (:func:`dentopo.topography.prepare_surface`).  Never modified.
     steps : int, default 8
         Number of rotations (molaR's ``Steps``), at least 1.
     step : float, default 5.625
@@ -465,7 +439,7 @@ def opcr(
     min_area = _check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
-    incidence = _Incidence(surface.faces, len(surface.vertices))
+    incidence = _Incidence(surface)
     cleaned = surface.trimesh()
     rotations = opcr_rotations(steps, step)
     results = [_opc_of(surface, incidence, r, min_faces, min_area, cleaned) for r in rotations]

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mesh import boundary_edges, outward_faces
+from . import _kernels
 
 #: ``orient``: ``"as-is"`` (molaR's behaviour: never turn) or ``"auto"``.
 ORIENT_MODES = ("as-is", "auto")
@@ -90,21 +91,28 @@ def check_orient(orient) -> str:
 
 
 def find_orientation(
-    vertices: np.ndarray, faces: np.ndarray, area: np.ndarray | None = None
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    area: np.ndarray | None = None,
+    boundary: np.ndarray | None = None,
 ) -> Orientation:
     """Which way along z the crown ``(vertices, faces)`` points (see the module's rule).
 
-    `area`: the faces' areas, if the caller has them already.
+    `area`: the faces' areas, and `boundary`: the mesh's boundary edges
+    (:func:`dentopo.mesh.boundary_edges`), if the caller has them already.
     """
-    tri = vertices[faces]
+    vertices, faces = np.asarray(vertices, dtype=np.float64), np.asarray(faces)
     if area is None:
+        tri = vertices[faces]
         area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    edges = boundary_edges(faces, len(vertices))
+    edges = boundary_edges(faces, len(vertices)) if boundary is None else boundary
     if len(edges):
         ends = vertices[edges]
         length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
         base = np.sum(length * ends[:, :, 2].mean(axis=1)) / length.sum()
-        centre = np.sum(area * tri[:, :, 2].mean(axis=1)) / area.sum()
+        height = np.empty(len(faces))
+        _kernels.face_mean_z(vertices, np.asarray(faces, dtype=np.int64), height)
+        centre = np.sum(area * height) / area.sum()
         return Orientation("+z" if base < centre else "-z", "open base")
     out = vertices[outward_faces(vertices, faces)]
     nz = np.cross(out[:, 1] - out[:, 0], out[:, 2] - out[:, 0])[:, 2]

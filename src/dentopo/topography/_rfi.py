@@ -21,10 +21,10 @@ from functools import cached_property
 
 import numpy as np
 import trimesh
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components, depth_first_order
-from scipy.spatial import Delaunay, QhullError
+from scipy.spatial import QhullError
 
+from . import _kernels
+from ._delaunay import delaunay
 from ._orientation import Orientation, check_orient
 from ._parameters import check_alpha, check_find_alpha
 from ._surface import molar_face_areas, molar_scale, prepare_surface
@@ -115,10 +115,11 @@ def first_occurrence(points: np.ndarray) -> np.ndarray:
     """
 
     def seen_before(values: np.ndarray) -> np.ndarray:
-        order = np.argsort(values, kind="stable")
+        order = np.argsort(values)  # equal values in any order: their first is found below
         ordered = values[order]
-        repeat = np.empty(len(values), dtype=bool)
-        repeat[order] = np.r_[False, ordered[1:] == ordered[:-1]]
+        starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
+        repeat = np.ones(len(values), dtype=bool)
+        repeat[np.minimum.reduceat(order, starts)] = False
         return repeat
 
     return ~(seen_before(points[:, 0]) & seen_before(points[:, 1]))
@@ -151,49 +152,26 @@ class AlphaShape:
         self.n = len(points)
         self.positions = points if positions is None else positions
         try:
-            tri = Delaunay(points)
+            simplices, neighbors = delaunay(points)
         except QhullError as exc:
             raise ValueError(
                 "the footprint has no area: the vertices' x-y positions lie on one line"
             ) from exc
-        simplices, neighbors = tri.simplices, tri.neighbors
-        a = points[simplices[:, 0]]
-        b = points[simplices[:, 1]] - a
-        c = points[simplices[:, 2]] - a
-        d = 2.0 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
-        bb, cc = (b * b).sum(axis=1), (c * c).sum(axis=1)
-        ux = (c[:, 1] * bb - b[:, 1] * cc) / d
-        uy = (b[:, 0] * cc - c[:, 0] * bb) / d
+        ux, uy = np.empty(len(simplices)), np.empty(len(simplices))
+        _kernels.circumcentres(points, simplices, ux, uy)
         radius = np.hypot(ux, uy)
 
-        # Each edge once: the side k of triangle t (opposite its vertex k),
-        # taken from the triangle with the lower index or the only one.
-        t = np.repeat(np.arange(len(simplices)), 3)
-        k = np.tile(np.arange(3), len(simplices))
-        other = neighbors[t, k]
-        once = (other == -1) | (t < other)
-        t, k, other = t[once], k[once], other[once]
-        hull = other == -1
-        other = np.where(hull, t, other)
-        i = simplices[t, (k + 1) % 3]
-        j = simplices[t, (k + 2) % 3]
-        apex_t = simplices[t, k]
-        apex_o = np.where(hull, apex_t, simplices[other].sum(axis=1) - i - j)
-
-        pi, pj = points[i], points[j]
-
-        def not_obtuse(apex):
-            p = points[apex]
-            return ((pi - p) * (pj - p)).sum(axis=1) >= 0
-
-        midpoint_on = not_obtuse(apex_t) & (hull | not_obtuse(apex_o))
-        r_t = radius[t]
-        r_o = np.where(hull, np.inf, radius[other])
-        half = 0.5 * np.hypot(pj[:, 0] - pi[:, 0], pj[:, 1] - pi[:, 1])
-        self.edges = np.column_stack([i, j])
-        self.alpha_min = np.where(midpoint_on, half, np.minimum(r_t, r_o))
-        self.alpha_max = np.maximum(r_t, r_o)
-        self._hull = hull
+        most = 3 * len(simplices)
+        ends = np.empty((most, 2), dtype=np.int64)
+        alpha_min, alpha_max = np.empty(most), np.empty(most)
+        hull = np.empty(most, dtype=bool)
+        count = _kernels.alpha_intervals(
+            points, simplices, neighbors, radius, ends, alpha_min, alpha_max, hull
+        )
+        self.edges = ends[:count]
+        self.alpha_min = alpha_min[:count]
+        self.alpha_max = alpha_max[:count]
+        self._hull = hull[:count]
         self._valid: dict[int, bool] = {}
 
     @cached_property
@@ -235,12 +213,7 @@ class AlphaShape:
                 f"the boundary is not closed: the point at x, y = {self._where(loose[0])} "
                 "ends a dangling segment"
             )
-        used = np.flatnonzero(degree)
-        graph = coo_matrix(
-            (np.ones(len(segments)), (segments[:, 0], segments[:, 1])), shape=(self.n, self.n)
-        )
-        pieces = connected_components(graph, directed=False)[1][used]
-        loops = len(np.unique(pieces))
+        loops = _kernels.loops(segments, self.n)
         if loops > 1:
             return f"the boundary segments form {loops} separate loops, not one outline"
         return None
@@ -319,9 +292,13 @@ class AlphaShape:
 
 
 def _chain(segments: np.ndarray, n: int) -> np.ndarray:
-    """The segments of one closed loop, reordered head to tail."""
-    graph = coo_matrix((np.ones(len(segments)), (segments[:, 0], segments[:, 1])), shape=(n, n))
-    order = depth_first_order(graph, int(segments[0, 0]), directed=False, return_predecessors=False)
+    """The segments of one closed loop, head to tail from its lowest point index.
+
+    The loop runs first towards the lower of that point's two neighbours, so
+    the order does not depend on how the triangulation listed its edges.
+    """
+    order = np.empty(len(segments), dtype=np.int64)
+    _kernels.loop_order(segments, n, order)
     return np.column_stack([order, np.roll(order, -1)])
 
 
@@ -371,9 +348,10 @@ def rfi(
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        The crown, occlusal plane x-y and crown towards +z (see `orient`).
-        Never modified.
+    mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
+        The crown, occlusal plane x-y and crown towards +z (see `orient`),
+        or one prepared once for several metrics
+        (:func:`dentopo.topography.prepare_surface`).  Never modified.
     alpha : float, default 0.075
         Radius of the alpha shape's discs, in molaR's rescaled units; with
         `find_alpha`, where the search starts.
@@ -425,7 +403,7 @@ def rfi(
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
     vertices = surface.vertices
-    area_3d = molar_area_3d(vertices, surface.faces)
+    area_3d = float(surface.single_precision_areas().sum())
 
     mean = vertices.mean(axis=0)
     points = np.vstack([vertices - mean, np.zeros((1, 3))])[:, :2]

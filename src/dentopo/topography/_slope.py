@@ -14,8 +14,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from . import _kernels
 from ._orientation import Orientation, check_orient
-from ._surface import molar_face_areas, prepare_surface
+from ._surface import prepare_surface
 
 #: Scalar fields, in the order of output tables.
 SLOPE_FIELDS = ("slope",)
@@ -86,16 +87,19 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
        whole degrees (half to even).
     3. **Mean.** ``|sum(slope * area) / sum(area)|`` with face areas in mesh
        units (molaR's default ``Guess = FALSE``), computed in single precision
-       as molaR's mesh reader computes them; the mean then equals molaR's to
-       the last bit on its reference meshes.
+       as molaR's mesh reader computes them; the weighted sum is compensated
+       (twice double precision, as R's long-double sum nearly is) and
+       sequential, so the mean equals molaR's to the last bit on its reference
+       meshes and does not depend on the number of threads.
 
     The result does not depend on translation, uniform scale or the order of
     vertices and faces; it does depend on orientation.
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        A triangle mesh.  Never modified.
+    mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
+        A triangle mesh, or one prepared once for several metrics
+        (:func:`dentopo.topography.prepare_surface`).  Never modified.
     orient : {"as-is", "auto"}, default "as-is"
         The metric assumes the crown points to +z.  ``"as-is"`` measures the
         mesh as it lies (molaR's behaviour) and warns if the crown points to
@@ -138,8 +142,8 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
 
 def _slope_of(surface) -> SlopeResult:
     per_face = face_slopes(surface.normals)
-    area = molar_face_areas(surface.vertices, surface.faces)
-    mean = float(np.dot(per_face, area) / area.sum())
+    area = surface.single_precision_areas()
+    mean = float(_kernels.compensated_dot(per_face, area) / area.sum())
     return SlopeResult(
         slope=abs(mean),
         vertices=len(surface.vertices),

@@ -4,18 +4,24 @@ molaR reads a mesh and cleans it (faces of zero area dropped, then vertices no
 face uses); every metric then works on face normals and areas from the faces'
 stored vertex order, and some on coordinates rescaled by molaR's "centroid
 size".  These shared pieces live here so that the metrics agree on them.
+
+A :class:`Surface` is prepared once and can be given to every metric in place
+of a mesh: what more than one metric needs of it (its boundary edges, the
+crown's orientation, the crown turned to +z, molaR's single-precision face
+areas) is computed the first time it is asked for and kept with it.
 """
 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import trimesh
 
 from ..mesh import as_arrays
-from ._orientation import Orientation, orient_vertices
+from . import _kernels
+from ._orientation import TURN, Orientation, check_orient, find_orientation
 
 #: molaR rescales a mesh so that its size measure is this.
 SIZE_TARGET = 100.0
@@ -24,6 +30,11 @@ SIZE_TARGET = 100.0
 @dataclass(frozen=True)
 class Surface:
     """A cleaned mesh and its per-face geometry (arrays are private copies).
+
+    Make one with :func:`prepare_surface`; every topography metric accepts it
+    in place of a mesh, so that a mesh measured by several metrics is cleaned,
+    and its orientation checked, once.  Its arrays are read-only: what is
+    computed from them is kept with them.
 
     Attributes
     ----------
@@ -40,6 +51,9 @@ class Surface:
         Faces of zero area that were dropped.
     orientation : Orientation or None
         Which way the crown points and whether it was turned (when asked).
+    source : Surface or None
+        The cleaned surface as given, when this one is it looked at for its
+        orientation (and perhaps turned): see :meth:`oriented`.
     """
 
     vertices: np.ndarray
@@ -49,6 +63,13 @@ class Surface:
     normals: np.ndarray
     dropped_faces: int = 0
     orientation: Orientation | None = None
+    source: Surface | None = field(default=None, repr=False, compare=False)
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        # what is computed from the arrays is kept with them: they must not change
+        for name in ("vertices", "faces", "cross", "area", "normals"):
+            getattr(self, name).flags.writeable = False
 
     def warn_orientation(self, stacklevel: int = 3) -> None:
         """Warn (``UserWarning``) if the crown is measured pointing to -z."""
@@ -61,9 +82,102 @@ class Surface:
         """The 3D surface area, mesh units."""
         return float(self.area.sum())
 
+    @property
+    def cleaned(self) -> Surface:
+        """The cleaned surface as given: never turned, no orientation looked at."""
+        return self if self.source is None else self.source
+
     def trimesh(self) -> trimesh.Trimesh:
-        """The cleaned mesh as a ``trimesh.Trimesh`` (not processed: faces as stored)."""
-        return trimesh.Trimesh(self.vertices, self.faces, process=False)
+        """The cleaned mesh as a ``trimesh.Trimesh`` (not processed: faces as stored; a copy)."""
+        return trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
+
+    def _cached(self, key, compute):
+        if key not in self._cache:
+            self._cache[key] = compute()
+        return self._cache[key]
+
+    def edge_groups(self) -> tuple[np.ndarray, np.ndarray, int]:
+        """The directed edges grouped by undirected edge (:func:`_kernels.edge_groups`).
+
+        ``(group_start, group_edge, groups)``: the edges of group g are
+        ``group_edge[group_start[g]:group_start[g + 1]]``, edge ``e = k * m + f``
+        running from ``faces[f, k]`` to ``faces[f, (k + 1) % 3]``; a boundary
+        edge is a group of one.  Computed once, shared with the turned surface.
+        """
+
+        def compute():
+            m = len(self.faces)
+            group_start = np.empty(3 * m + 1, dtype=np.int64)
+            group_edge = np.empty(3 * m, dtype=np.int64)
+            groups = _kernels.edge_groups(self.faces, len(self.vertices), group_start, group_edge)
+            return group_start, group_edge, groups
+
+        return self.cleaned._cached("edge_groups", compute)
+
+    def edge_uses(self) -> np.ndarray:
+        """(3m,) int64: for directed edge ``e = k * m + f``, how many faces use its two vertices."""
+        group_start, group_edge, groups = self.edge_groups()
+        sizes = np.diff(group_start[: groups + 1])
+        uses = np.empty(len(group_edge), dtype=np.int64)
+        uses[group_edge] = np.repeat(sizes, sizes)
+        return uses
+
+    def boundary_edges(self) -> np.ndarray:
+        """(k, 2) int64: the directed edges no other face shares (as mesh.boundary_edges)."""
+        ends = np.empty((3 * len(self.faces), 2), dtype=np.int64)
+        count = _kernels.boundary_ends(self.faces, *self.edge_groups(), ends)
+        return ends[:count]
+
+    def single_precision_areas(self) -> np.ndarray:
+        """Face areas as molaR's reader computes them (:func:`molar_face_areas`); a copy."""
+        # the turned surface's areas are the same numbers: turning negates coordinates exactly
+        base = self.cleaned
+        return base._cached(
+            "single_precision_areas", lambda: molar_face_areas(base.vertices, base.faces)
+        ).copy()
+
+    def oriented(self, orient: str) -> Surface:
+        """This surface with its orientation found, turned to +z with ``orient="auto"`` if needed.
+
+        The orientation is found once (:func:`find_orientation`) and the
+        result kept, for either `orient`.
+        """
+        orient = check_orient(orient)
+        base = self.cleaned
+        return base._cached(("oriented", orient), lambda: base._orient(orient))
+
+    def _orient(self, orient: str) -> Surface:
+        found = self._cached(
+            "orientation",
+            lambda: find_orientation(
+                self.vertices, self.faces, self.area, boundary=self.boundary_edges()
+            ),
+        )
+        if orient == "auto" and found.points == "-z":
+            # a proper rotation: the same numbers, two of them negated (exactly)
+            vertices = self.vertices @ TURN.T
+            cross = face_cross(vertices, self.faces)
+            norm = 2.0 * self.area
+            return Surface(
+                vertices=vertices,
+                faces=self.faces,
+                cross=cross,
+                area=self.area,
+                normals=cross / norm[:, None],
+                dropped_faces=self.dropped_faces,
+                orientation=Orientation(found.points, found.rule, turned=True),
+                source=self,
+            )
+        return Surface(
+            vertices=self.vertices,
+            faces=self.faces,
+            cross=self.cross,
+            area=self.area,
+            normals=self.normals,
+            dropped_faces=self.dropped_faces,
+            orientation=found,
+            source=self,
+        )
 
 
 def face_cross(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -94,44 +208,44 @@ def prepare_surface(mesh, orient: str | None = None) -> Surface:
 
     Parameters
     ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        Never modified.
+    mesh : Surface, trimesh.Trimesh, str, path-like, or (vertices, faces)
+        Never modified.  A :class:`Surface` is used as it is (its
+        :attr:`Surface.cleaned` form), not cleaned again.
     orient : {"as-is", "auto"}, optional
         For the metrics that assume the crown points to +z: find which way it
         points (:func:`find_orientation`, recorded in ``Surface.orientation``)
-        and, with ``"auto"``, turn a crown pointing to -z first.  None: the
-        orientation is not looked at.
+        and, with ``"auto"``, turn a crown pointing to -z first
+        (:meth:`Surface.oriented`).  None: the orientation is not looked at.
 
     Raises
     ------
     TypeError, ValueError
         For an unusable mesh, or one with no face of non-zero area.
     """
-    vertices, faces = as_arrays(mesh)
-    cross = face_cross(vertices, faces)
-    norm = np.linalg.norm(cross, axis=1)
-    keep = norm > 0
-    if not keep.any():
-        raise ValueError("the mesh has no face of non-zero area")
-    dropped = int(len(faces) - keep.sum())
-    if dropped:
-        faces, cross, norm = faces[keep], cross[keep], norm[keep]
-    vertices, faces = drop_unused(vertices, faces)
-    area = 0.5 * norm
-    orientation = None
-    if orient is not None:
-        vertices, orientation = orient_vertices(vertices, faces, orient, area)
-        if orientation.turned:  # the same numbers, two of them negated (exactly)
-            cross = face_cross(vertices, faces)
-    return Surface(
-        vertices=vertices,
-        faces=faces,
-        cross=cross,
-        area=area,
-        normals=cross / norm[:, None],
-        dropped_faces=dropped,
-        orientation=orientation,
-    )
+    if isinstance(mesh, Surface):
+        surface = mesh.cleaned
+    else:
+        vertices, faces = as_arrays(mesh)
+        cross = np.empty((len(faces), 3))
+        norm = np.empty(len(faces))
+        _kernels.face_cross_norm(vertices, faces, cross, norm)
+        keep = norm > 0
+        kept = int(np.count_nonzero(keep))
+        if kept == 0:
+            raise ValueError("the mesh has no face of non-zero area")
+        dropped = len(faces) - kept
+        if dropped:
+            faces, cross, norm = faces[keep], cross[keep], norm[keep]
+        vertices, faces = drop_unused(vertices, faces)
+        surface = Surface(
+            vertices=vertices,
+            faces=faces,
+            cross=cross,
+            area=0.5 * norm,
+            normals=cross / norm[:, None],
+            dropped_faces=dropped,
+        )
+    return surface if orient is None else surface.oriented(orient)
 
 
 def molar_face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -144,10 +258,11 @@ def molar_face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     differ from double-precision areas by about 1e-9 relative on a typical
     crown, more for coordinates far from the origin.
     """
-    tri = vertices.astype(np.float32)[faces]
-    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    double_area = np.sqrt((cross * cross).sum(axis=1, dtype=np.float32))
-    return double_area.astype(np.float64) / 2
+    area = np.empty(len(faces))
+    _kernels.single_precision_areas(
+        np.ascontiguousarray(vertices, dtype=np.float32), np.asarray(faces, dtype=np.int64), area
+    )
+    return area
 
 
 def molar_scale(vertices: np.ndarray) -> float:

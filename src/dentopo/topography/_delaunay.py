@@ -1,0 +1,398 @@
+"""The Delaunay triangulation of RFI's footprint points: compiled, certified, or qhull's.
+
+RFI's alpha shape needs the Delaunay triangulation of a few thousand 2D
+points; qhull (``scipy.spatial.Delaunay``) spends most of RFI's time on it.
+:func:`delaunay` first builds it with a compiled sweep (points added in order
+of their distance from a seed triangle's circumcentre, each joined to the
+hull edges it sees, then edges flipped until locally Delaunay), then
+*certifies* the result with Shewchuk's error bounds: every triangle strictly
+counter-clockwise, every interior edge strictly locally Delaunay, the hull
+strictly convex, every point used, the halfedges consistent.  A triangulation
+that passes is the Delaunay triangulation, and a unique one (no four points
+on one circle within the bound), so it is the one qhull would return, up to
+the order of triangles and of their vertices.  Anything the bounds cannot
+decide (near-cocircular or near-collinear points, a point the sweep could
+not place) falls back to qhull.
+
+The triangles are returned as qhull returns them: ``simplices`` (t, 3) and
+``neighbors`` (t, 3), ``neighbors[t, k]`` the triangle across the side
+opposite vertex k, -1 on the hull.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from scipy.spatial import Delaunay
+
+#: Shewchuk's static error bounds of the orientation and in-circle determinants.
+_EPS = np.ldexp(1.0, -53)
+_CCW_BOUND = (3.0 + 16.0 * _EPS) * _EPS
+_INCIRCLE_BOUND = (10.0 + 96.0 * _EPS) * _EPS
+
+
+@njit(cache=True)
+def _orient(points, a, b, c):
+    """Twice the signed area of (a, b, c): positive counter-clockwise."""
+    return (points[b, 0] - points[a, 0]) * (points[c, 1] - points[a, 1]) - (
+        points[b, 1] - points[a, 1]
+    ) * (points[c, 0] - points[a, 0])
+
+
+@njit(cache=True)
+def _orient_certain(points, a, b, c):
+    """+1 or -1 if (a, b, c) is surely counter-clockwise or clockwise, else 0."""
+    left = (points[a, 0] - points[c, 0]) * (points[b, 1] - points[c, 1])
+    right = (points[a, 1] - points[c, 1]) * (points[b, 0] - points[c, 0])
+    det = left - right
+    bound = _CCW_BOUND * (abs(left) + abs(right))
+    if det > bound:
+        return 1
+    if -det > bound:
+        return -1
+    return 0
+
+
+@njit(cache=True)
+def _incircle(points, a, b, c, d, certain):
+    """Positive if d lies inside the circle of the counter-clockwise (a, b, c).
+
+    With `certain`, 0 where the sign is not certain (Shewchuk's bound).
+    """
+    adx = points[a, 0] - points[d, 0]
+    ady = points[a, 1] - points[d, 1]
+    bdx = points[b, 0] - points[d, 0]
+    bdy = points[b, 1] - points[d, 1]
+    cdx = points[c, 0] - points[d, 0]
+    cdy = points[c, 1] - points[d, 1]
+    bdxcdy, cdxbdy = bdx * cdy, cdx * bdy
+    cdxady, adxcdy = cdx * ady, adx * cdy
+    adxbdy, bdxady = adx * bdy, bdx * ady
+    alift = adx * adx + ady * ady
+    blift = bdx * bdx + bdy * bdy
+    clift = cdx * cdx + cdy * cdy
+    det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+    if not certain:
+        return det
+    permanent = (
+        (abs(bdxcdy) + abs(cdxbdy)) * alift
+        + (abs(cdxady) + abs(adxcdy)) * blift
+        + (abs(adxbdy) + abs(bdxady)) * clift
+    )
+    bound = _INCIRCLE_BOUND * permanent
+    if det > bound:
+        return 1.0
+    if -det > bound:
+        return -1.0
+    return 0.0
+
+
+@njit(cache=True)
+def _nxt(e):
+    return e - e % 3 + (e + 1) % 3
+
+
+@njit(cache=True)
+def _prv(e):
+    return e - e % 3 + (e + 2) % 3
+
+
+@njit(cache=True)
+def _link(halfedges, a, b):
+    halfedges[a] = b
+    if b >= 0:
+        halfedges[b] = a
+
+
+@njit(cache=True)
+def _legalize(points, triangles, halfedges, hull_tri, start, stack):
+    """Flip edges from halfedge `start` on until every one checked is locally Delaunay.
+
+    A halfedge a (X to Y) of triangle (X, Y, P) whose twin b (Y to X) lies
+    in (Y, X, Q) is flipped when Q is inside the circle of (X, Y, P): the
+    triangles become (Q, Y, P) and (P, X, Q) in the same slots, and the two
+    far edges (Q, Y) and (X, Q) are checked in turn.
+    """
+    depth = 0
+    a = start
+    while True:
+        b = halfedges[a]
+        if (
+            b < 0
+            or _incircle(
+                points,
+                triangles[a],
+                triangles[_nxt(a)],
+                triangles[_prv(a)],
+                triangles[_prv(b)],
+                False,
+            )
+            <= 0
+        ):
+            if depth == 0:
+                return
+            depth -= 1
+            a = stack[depth]
+            continue
+        ap = _prv(a)
+        bn, bp = _nxt(b), _prv(b)
+        p = triangles[ap]
+        q = triangles[bp]
+        twin_bp = halfedges[bp]
+        twin_ap = halfedges[ap]
+        triangles[a] = q
+        triangles[b] = p
+        _link(halfedges, a, twin_bp)
+        _link(halfedges, b, twin_ap)
+        _link(halfedges, ap, bp)
+        if twin_bp < 0:
+            hull_tri[q] = a
+        if twin_ap < 0:
+            hull_tri[p] = b
+        if depth == len(stack):
+            return  # pathological: certification will refuse the result
+        stack[depth] = bn
+        depth += 1
+
+
+@njit(cache=True)
+def _add(triangles, halfedges, count, i, j, k, a, b, c):
+    t = 3 * count
+    triangles[t] = i
+    triangles[t + 1] = j
+    triangles[t + 2] = k
+    _link(halfedges, t, a)
+    _link(halfedges, t + 1, b)
+    _link(halfedges, t + 2, c)
+    return t
+
+
+@njit(cache=True)
+def _pseudo_angle(dx, dy):
+    p = dx / (abs(dx) + abs(dy))
+    return (3.0 - p if dy > 0 else 1.0 + p) / 4.0
+
+
+@njit(cache=True)
+def _sweep(points, triangles, halfedges):
+    """Build the triangulation; returns the number of triangles, or -1 if the sweep failed."""
+    n = points.shape[0]
+    lo_x, lo_y = points[:, 0].min(), points[:, 1].min()
+    hi_x, hi_y = points[:, 0].max(), points[:, 1].max()
+    cx, cy = (lo_x + hi_x) / 2.0, (lo_y + hi_y) / 2.0
+    i0, best = 0, np.inf
+    for i in range(n):
+        d = (points[i, 0] - cx) ** 2 + (points[i, 1] - cy) ** 2
+        if d < best:
+            i0, best = i, d
+    i1, best = -1, np.inf
+    for i in range(n):
+        if i != i0:
+            d = (points[i, 0] - points[i0, 0]) ** 2 + (points[i, 1] - points[i0, 1]) ** 2
+            if d < best and d > 0:
+                i1, best = i, d
+    i2, best = -1, np.inf
+    for i in range(n):
+        if i == i0 or i == i1:
+            continue
+        bx, by = points[i1, 0] - points[i0, 0], points[i1, 1] - points[i0, 1]
+        qx, qy = points[i, 0] - points[i0, 0], points[i, 1] - points[i0, 1]
+        d = 2.0 * (bx * qy - by * qx)
+        if d == 0:
+            continue
+        bb, qq = bx * bx + by * by, qx * qx + qy * qy
+        ux, uy = (qy * bb - by * qq) / d, (bx * qq - qx * bb) / d
+        r = ux * ux + uy * uy
+        if r < best:
+            i2, best = i, r
+    if i1 < 0 or i2 < 0:
+        return -1
+    if _orient(points, i0, i1, i2) < 0:
+        i1, i2 = i2, i1
+    bx, by = points[i1, 0] - points[i0, 0], points[i1, 1] - points[i0, 1]
+    qx, qy = points[i2, 0] - points[i0, 0], points[i2, 1] - points[i0, 1]
+    d = 2.0 * (bx * qy - by * qx)
+    bb, qq = bx * bx + by * by, qx * qx + qy * qy
+    cx = points[i0, 0] + (qy * bb - by * qq) / d
+    cy = points[i0, 1] + (bx * qq - qx * bb) / d
+
+    distance = np.empty(n)
+    for i in range(n):
+        distance[i] = (points[i, 0] - cx) ** 2 + (points[i, 1] - cy) ** 2
+    order = np.argsort(distance)
+
+    hull_next = np.full(n, -1, dtype=np.int64)
+    hull_prev = np.full(n, -1, dtype=np.int64)
+    hull_tri = np.full(n, -1, dtype=np.int64)
+    size = max(int(np.ceil(np.sqrt(n))), 1)
+    hull_hash = np.full(size, -1, dtype=np.int64)
+    stack = np.empty(4096, dtype=np.int64)
+
+    hull_next[i0], hull_next[i1], hull_next[i2] = i1, i2, i0
+    hull_prev[i1], hull_prev[i2], hull_prev[i0] = i0, i1, i2
+    halfedges[:] = -1
+    _add(triangles, halfedges, 0, i0, i1, i2, -1, -1, -1)
+    hull_tri[i0], hull_tri[i1], hull_tri[i2] = 0, 1, 2
+    for v in (i0, i1, i2):
+        key = int(_pseudo_angle(points[v, 0] - cx, points[v, 1] - cy) * size) % size
+        hull_hash[key] = v
+    count = 1
+    hull_start = i0
+    capacity = triangles.shape[0] // 3
+
+    for position in range(n):
+        p = order[position]
+        if p == i0 or p == i1 or p == i2:
+            continue
+        key = int(_pseudo_angle(points[p, 0] - cx, points[p, 1] - cy) * size) % size
+        start = -1
+        for j in range(size):
+            candidate = hull_hash[(key + j) % size]
+            if candidate >= 0 and hull_next[candidate] >= 0:
+                start = candidate
+                break
+        if start < 0:
+            start = hull_start
+        start = hull_prev[start]
+        e = start
+        while True:
+            q = hull_next[e]
+            if _orient(points, e, q, p) < 0:
+                break
+            e = q
+            if e == start:
+                return -1  # p sees no hull edge: the sweep cannot place it
+        v, w = e, hull_next[e]
+        if count == capacity:
+            return -1
+        t = _add(triangles, halfedges, count, v, p, w, -1, -1, hull_tri[v])
+        count += 1
+        hull_tri[v] = t
+        hull_tri[p] = t + 1
+        hull_next[v], hull_prev[p], hull_next[p], hull_prev[w] = p, v, w, p
+        _legalize(points, triangles, halfedges, hull_tri, t + 2, stack)
+        # forward: hull edges n -> q that p sees
+        n_ = w
+        while True:
+            q = hull_next[n_]
+            if not _orient(points, n_, q, p) < 0:
+                break
+            if count == capacity:
+                return -1
+            t = _add(triangles, halfedges, count, n_, p, q, hull_tri[p], -1, hull_tri[n_])
+            count += 1
+            hull_tri[p] = t + 1
+            hull_next[p], hull_prev[q] = q, p
+            hull_next[n_], hull_prev[n_] = -1, -1
+            _legalize(points, triangles, halfedges, hull_tri, t + 2, stack)
+            n_ = q
+        # backward: hull edges q -> e that p sees
+        e = v
+        while True:
+            q = hull_prev[e]
+            if not _orient(points, q, e, p) < 0:
+                break
+            if count == capacity:
+                return -1
+            t = _add(triangles, halfedges, count, q, p, e, -1, hull_tri[e], hull_tri[q])
+            count += 1
+            hull_tri[q] = t
+            hull_next[q], hull_prev[p] = p, q
+            hull_next[e], hull_prev[e] = -1, -1
+            _legalize(points, triangles, halfedges, hull_tri, t + 2, stack)
+            e = q
+        hull_start = p
+        hull_hash[key] = p
+        key_e = int(_pseudo_angle(points[e, 0] - cx, points[e, 1] - cy) * size) % size
+        hull_hash[key_e] = e
+    return count
+
+
+@njit(cache=True)
+def _certified(points, triangles, halfedges, count):
+    """Whether the triangles are surely the unique Delaunay triangulation of all the points."""
+    n = points.shape[0]
+    used = np.zeros(n, dtype=np.bool_)
+    hull_edges = 0
+    for e in range(3 * count):
+        used[triangles[e]] = True
+        b = halfedges[e]
+        if b < 0:
+            hull_edges += 1
+            continue
+        if (
+            halfedges[b] != e
+            or triangles[b] != triangles[_nxt(e)]
+            or triangles[_nxt(b)] != (triangles[e])
+        ):
+            return False
+        if (
+            e < b
+            and _incircle(
+                points,
+                triangles[e],
+                triangles[_nxt(e)],
+                triangles[_prv(e)],
+                triangles[_prv(b)],
+                True,
+            )
+            >= 0
+        ):
+            return False
+    for t in range(count):
+        a, b, c = triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2]
+        if _orient_certain(points, a, b, c) <= 0:
+            return False
+    for i in range(n):
+        if not used[i]:
+            return False
+    if count != 2 * n - 2 - hull_edges:
+        return False
+    # the hull: one loop, every turn surely to the left
+    after = np.full(n, -1, dtype=np.int64)
+    first = -1
+    for e in range(3 * count):
+        if halfedges[e] < 0:
+            if after[triangles[e]] >= 0:
+                return False
+            after[triangles[e]] = triangles[_nxt(e)]
+            first = triangles[e]
+    v, steps = first, 0
+    while True:
+        w = after[v]
+        if w < 0 or _orient_certain(points, v, w, after[w]) <= 0:
+            return False
+        v = w
+        steps += 1
+        if v == first:
+            break
+        if steps > hull_edges:
+            return False
+    return steps == hull_edges
+
+
+def delaunay(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The Delaunay triangulation of distinct 2D points: ``(simplices, neighbors)``.
+
+    Compiled and certified (see the module), else qhull's.
+
+    Raises
+    ------
+    scipy.spatial.QhullError
+        From qhull, when the points span no area.
+    """
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    n = len(points)
+    if n >= 3:
+        most = max(2 * n - 5, 1)
+        triangles = np.empty(3 * most, dtype=np.int64)
+        halfedges = np.empty(3 * most, dtype=np.int64)
+        count = _sweep(points, triangles, halfedges)
+        if count > 0 and _certified(points, triangles, halfedges, count):
+            simplices = triangles[: 3 * count].reshape(count, 3)
+            across = halfedges[: 3 * count].reshape(count, 3)
+            # neighbors[t, k]: across the side opposite vertex k, halfedge 3t + (k + 1) % 3
+            neighbors = np.where(across < 0, -1, across // 3)[:, [1, 2, 0]]
+            return simplices, neighbors
+    tri = Delaunay(points)
+    return tri.simplices, tri.neighbors
