@@ -301,35 +301,50 @@ def _select(centres, perm, axis, a, b, k):
             return
 
 
+#: Levels of the hierarchy are built in parallel only over this many triangles: below,
+#: starting the threads (once per level) would cost more than it saves.
+PARALLEL_BUILD = 200_000
+
+
 @njit(cache=True, parallel=True)
 def _kd_order(centres, link, lo, hi, level, perm):
     """Split each inner node's items at its middle along the longest side of their box.
 
     Rows of `centres` are moved and `perm` alike; level by level, the nodes of a
-    level in parallel (each owns its rows: the order does not depend on the
-    threads).  Nothing is returned (see ``_layout``).
+    level in parallel on large meshes (each owns its rows: the order does not
+    depend on the threads).  Nothing is returned (see ``_layout``).
     """
+    parallel = centres.shape[0] >= PARALLEL_BUILD
     for depth in range(level.shape[0] - 1):
-        for node in prange(level[depth], level[depth + 1]):
-            if link[node, 1] >= 0:  # a leaf
-                continue
-            a = lo[node]
-            b = hi[node]
-            lx = ly = lz = np.inf
-            hx = hy = hz = -np.inf
-            for i in range(a, b):
-                lx = min(lx, centres[i, 0])
-                hx = max(hx, centres[i, 0])
-                ly = min(ly, centres[i, 1])
-                hy = max(hy, centres[i, 1])
-                lz = min(lz, centres[i, 2])
-                hz = max(hz, centres[i, 2])
-            axis = 0
-            if hy - ly > hx - lx:
-                axis = 1
-            if hz - lz > max(hx - lx, hy - ly):
-                axis = 2
-            _select(centres, perm, axis, a, b, (a + b) // 2)
+        if parallel and level[depth + 1] - level[depth] > 1:
+            for node in prange(level[depth], level[depth + 1]):
+                _kd_split(centres, link, lo, hi, perm, node)
+        else:
+            for node in range(level[depth], level[depth + 1]):
+                _kd_split(centres, link, lo, hi, perm, node)
+
+
+@njit(cache=True)
+def _kd_split(centres, link, lo, hi, perm, node):
+    if link[node, 1] >= 0:  # a leaf
+        return
+    a = lo[node]
+    b = hi[node]
+    lx = ly = lz = np.inf
+    hx = hy = hz = -np.inf
+    for i in range(a, b):
+        lx = min(lx, centres[i, 0])
+        hx = max(hx, centres[i, 0])
+        ly = min(ly, centres[i, 1])
+        hy = max(hy, centres[i, 1])
+        lz = min(lz, centres[i, 2])
+        hz = max(hz, centres[i, 2])
+    axis = 0
+    if hy - ly > hx - lx:
+        axis = 1
+    if hz - lz > max(hx - lx, hy - ly):
+        axis = 2
+    _select(centres, perm, axis, a, b, (a + b) // 2)
 
 
 @njit(cache=True, inline="always")
@@ -443,24 +458,34 @@ def _summarise(tri, lo, hi, link, level, nodes, packed):
     sums = np.empty(13)
     _sums(tri, 0, tri.shape[0], 0.0, 0.0, 0.0, sums)
     _store(sums, 0, nodes, packed)
+    parallel = tri.shape[0] >= PARALLEL_BUILD
     for depth in range(level.shape[0] - 1):
-        for node in prange(level[depth], level[depth + 1]):
-            cx = nodes[node, 0]
-            cy = nodes[node, 1]
-            cz = nodes[node, 2]
-            if link[node, 1] >= 0:
-                r2 = _reach2(tri, lo[node], hi[node], cx, cy, cz)
-            else:
-                child_sums = np.empty(13)
-                r2 = 0.0
-                first = link[node, 0]
-                for child in range(first, first + 2):
-                    r2 = max(r2, _sums(tri, lo[child], hi[child], cx, cy, cz, child_sums))
-                    _store(child_sums, child, nodes, packed)
-            radius = np.float32(np.sqrt(r2))
-            if radius < np.sqrt(r2):
-                radius = np.nextafter(radius, np.float32(np.inf))
-            packed[node, _RADIUS] = radius
+        if parallel and level[depth + 1] - level[depth] > 1:
+            for node in prange(level[depth], level[depth + 1]):
+                _summarise_node(tri, lo, hi, link, nodes, packed, node, np.empty(13))
+        else:
+            for node in range(level[depth], level[depth + 1]):
+                _summarise_node(tri, lo, hi, link, nodes, packed, node, sums)
+
+
+@njit(cache=True)
+def _summarise_node(tri, lo, hi, link, nodes, packed, node, child_sums):
+    """The radius of `node` and the sums of its children (see ``_summarise``)."""
+    cx = nodes[node, 0]
+    cy = nodes[node, 1]
+    cz = nodes[node, 2]
+    if link[node, 1] >= 0:
+        r2 = _reach2(tri, lo[node], hi[node], cx, cy, cz)
+    else:
+        r2 = 0.0
+        first = link[node, 0]
+        for child in range(first, first + 2):
+            r2 = max(r2, _sums(tri, lo[child], hi[child], cx, cy, cz, child_sums))
+            _store(child_sums, child, nodes, packed)
+    radius = np.float32(np.sqrt(r2))
+    if radius < np.sqrt(r2):
+        radius = np.nextafter(radius, np.float32(np.inf))
+    packed[node, _RADIUS] = radius
 
 
 #: Queries per call of the compiled ``_query`` (a few tenths of a second at most): Python
@@ -728,10 +753,10 @@ def _ordered_triangles(
     return tri
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def _longest_edges(vertices, faces, out):
     """``out[f]``: the longest edge of face f.  Nothing is returned (see ``_layout``)."""
-    for f in prange(faces.shape[0]):
+    for f in range(faces.shape[0]):
         longest = 0.0
         for a in range(3):
             u = faces[f, a]
@@ -743,11 +768,11 @@ def _longest_edges(vertices, faces, out):
         out[f] = np.sqrt(longest)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def _item_centres(vertices, faces, keep, cut, out):
     """Three times the centroid of each item: the kept faces, then the strips."""
     n_keep = keep.shape[0]
-    for i in prange(out.shape[0]):
+    for i in range(out.shape[0]):
         for x in range(3):
             if i < n_keep:
                 f = keep[i]
@@ -759,11 +784,11 @@ def _item_centres(vertices, faces, keep, cut, out):
                 out[i, x] = cut[j, 0, x] + cut[j, 1, x] + cut[j, 2, x]
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def _gather(vertices, faces, keep, cut, perm, out):
     """``out[k]``: the triangle of item ``perm[k]`` (a kept face, or a strip)."""
     n_keep = keep.shape[0]
-    for k in prange(out.shape[0]):
+    for k in range(out.shape[0]):
         i = perm[k]
         if i < n_keep:
             for c in range(3):
