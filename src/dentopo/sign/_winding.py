@@ -203,7 +203,8 @@ def _tree(tri: np.ndarray, leaf_size: int = LEAF_SIZE) -> tuple:
     """
     lo, hi, link, level = _shape(len(tri), leaf_size)
     nodes = np.zeros((len(link), 8))
-    _summarise(tri, lo, hi, link, level, nodes, nodes.view(np.float32))
+    weight = np.empty((len(link), 4))
+    _summarise(tri, lo, hi, link, level, nodes, nodes.view(np.float32), weight)
     return link, nodes, nodes.view(np.float32)
 
 
@@ -445,43 +446,98 @@ def _store(sums, node, nodes, packed):
 
 
 @njit(cache=True, parallel=True)
-def _summarise(tri, lo, hi, link, level, nodes, packed):
+def _summarise(tri, lo, hi, link, level, nodes, packed, weight):
     """Each node's area-weighted centre, radius, summed area vector and first moment.
 
     The radius is that of the sphere about the centre holding all the node's
     vertices, rounded up to float32; the first moment of the area vectors about
     the centre, ``M_ij = sum e_i a_j``, enters the far field only through its
-    symmetric part.  Level by level, in parallel: a node's pass over its
-    triangles gives its radius and its children's sums (about its own centre,
-    then shifted to theirs).  Nothing is returned (see ``_layout``).
+    symmetric part.  Bottom up: a leaf's sums from its triangles, an inner
+    node's from its children's (``weight``, the caller's (nodes, 4) float64
+    array, carries their areas and area vectors); then each level's radii, one
+    pass over the triangles, its nodes in parallel on large meshes.  Nothing is
+    returned (see ``_layout``).
     """
-    sums = np.empty(13)
-    _sums(tri, 0, tri.shape[0], 0.0, 0.0, 0.0, sums)
-    _store(sums, 0, nodes, packed)
     parallel = tri.shape[0] >= PARALLEL_BUILD
+    for depth in range(level.shape[0] - 2, -1, -1):
+        if parallel and level[depth + 1] - level[depth] > 1:
+            for node in prange(level[depth], level[depth + 1]):
+                _combine(tri, lo, hi, link, nodes, packed, weight, node, np.empty(13))
+        else:
+            sums = np.empty(13)
+            for node in range(level[depth], level[depth + 1]):
+                _combine(tri, lo, hi, link, nodes, packed, weight, node, sums)
     for depth in range(level.shape[0] - 1):
         if parallel and level[depth + 1] - level[depth] > 1:
             for node in prange(level[depth], level[depth + 1]):
-                _summarise_node(tri, lo, hi, link, nodes, packed, node, np.empty(13))
+                _inner_radius(tri, lo, hi, link, nodes, packed, node)
         else:
             for node in range(level[depth], level[depth + 1]):
-                _summarise_node(tri, lo, hi, link, nodes, packed, node, sums)
+                _inner_radius(tri, lo, hi, link, nodes, packed, node)
 
 
 @njit(cache=True)
-def _summarise_node(tri, lo, hi, link, nodes, packed, node, child_sums):
-    """The radius of `node` and the sums of its children (see ``_summarise``)."""
-    cx = nodes[node, 0]
-    cy = nodes[node, 1]
-    cz = nodes[node, 2]
+def _combine(tri, lo, hi, link, nodes, packed, weight, node, sums):
+    """The sums of `node`: from its triangles (a leaf, with its radius) or its children."""
     if link[node, 1] >= 0:
-        r2 = _reach2(tri, lo[node], hi[node], cx, cy, cz)
+        a = lo[node]
+        _sums(tri, a, hi[node], tri[a, 0, 0], tri[a, 0, 1], tri[a, 0, 2], sums)
+        _store(sums, node, nodes, packed)
+        for k in range(4):
+            weight[node, k] = sums[k if k == 0 else 3 + k]
+        _set_radius(packed, node, _reach2(tri, a, hi[node], sums[1], sums[2], sums[3]))
+        return
+    first = link[node, 0]
+    second = first + 1
+    area = weight[first, 0] + weight[second, 0]
+    if area > 0:
+        cx = (weight[first, 0] * nodes[first, 0] + weight[second, 0] * nodes[second, 0]) / area
+        cy = (weight[first, 0] * nodes[first, 1] + weight[second, 0] * nodes[second, 1]) / area
+        cz = (weight[first, 0] * nodes[first, 2] + weight[second, 0] * nodes[second, 2]) / area
     else:
-        r2 = 0.0
-        first = link[node, 0]
-        for child in range(first, first + 2):
-            r2 = max(r2, _sums(tri, lo[child], hi[child], cx, cy, cz, child_sums))
-            _store(child_sums, child, nodes, packed)
+        cx = nodes[first, 0]
+        cy = nodes[first, 1]
+        cz = nodes[first, 2]
+    sxx = syy = szz = sxy = sxz = syz = 0.0
+    for child in range(first, first + 2):
+        ex = nodes[child, 0] - cx
+        ey = nodes[child, 1] - cy
+        ez = nodes[child, 2] - cz
+        dx = weight[child, 1]
+        dy = weight[child, 2]
+        dz = weight[child, 3]
+        # about the new centre: S + sym((c_child - c) D^T)
+        sxx += np.float64(packed[child, _MOMENT]) + ex * dx
+        syy += np.float64(packed[child, _MOMENT + 1]) + ey * dy
+        szz += np.float64(packed[child, _MOMENT + 2]) + ez * dz
+        sxy += np.float64(packed[child, _MOMENT + 3]) + 0.5 * (ex * dy + ey * dx)
+        sxz += np.float64(packed[child, _MOMENT + 4]) + 0.5 * (ex * dz + ez * dx)
+        syz += np.float64(packed[child, _MOMENT + 5]) + 0.5 * (ey * dz + ez * dy)
+    weight[node, 0] = area
+    nodes[node, 0] = cx
+    nodes[node, 1] = cy
+    nodes[node, 2] = cz
+    for x in range(1, 4):
+        weight[node, x] = weight[first, x] + weight[second, x]
+        packed[node, _DIPOLE + x - 1] = weight[node, x]
+    packed[node, _MOMENT] = sxx
+    packed[node, _MOMENT + 1] = syy
+    packed[node, _MOMENT + 2] = szz
+    packed[node, _MOMENT + 3] = sxy
+    packed[node, _MOMENT + 4] = sxz
+    packed[node, _MOMENT + 5] = syz
+
+
+@njit(cache=True)
+def _inner_radius(tri, lo, hi, link, nodes, packed, node):
+    if link[node, 1] < 0:
+        r2 = _reach2(tri, lo[node], hi[node], nodes[node, 0], nodes[node, 1], nodes[node, 2])
+        _set_radius(packed, node, r2)
+
+
+@njit(cache=True, inline="always")
+def _set_radius(packed, node, r2):
+    """The radius, rounded up to float32."""
     radius = np.float32(np.sqrt(r2))
     if radius < np.sqrt(r2):
         radius = np.nextafter(radius, np.float32(np.inf))
