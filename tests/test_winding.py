@@ -247,6 +247,23 @@ def test_the_hierarchy_holds_its_triangles():
             assert (lo[node], hi[node]) == tuple(link[node])
 
 
+def test_node_count_is_that_of_the_layout():
+    from dentopo.sign._winding import _node_count
+
+    def halving(n, leaf):  # the ranges of ``_layout``, one by one
+        ranges, count = [n], 0
+        while ranges:
+            k = ranges.pop()
+            count += 1
+            if k > leaf:
+                ranges += [k // 2, k - k // 2]
+        return count
+
+    for leaf in (1, 2, 4, 5):
+        for n in [*range(0, 70), 1000, 4097, 12345]:
+            assert _node_count(n, leaf) == halving(n, leaf), (n, leaf)
+
+
 def test_winding_numbers_do_not_depend_on_the_thread_count(tmp_path):
     # each query is computed alone and the hierarchy's levels own their ranges: the same
     # bits with 1 and 2 threads, on a mesh large enough for the parallel build

@@ -177,14 +177,6 @@ def _near_product(tri, lo, hi, q, re, im, turns):
     return re, im, turns
 
 
-def _tree_capacity(n_tri: int, leaf_size: int) -> int:
-    """Nodes a hierarchy over `n_tri` triangles can need.
-
-    Halving leaves at least ``(leaf_size + 1) // 2`` triangles per leaf.
-    """
-    return 4 * (n_tri // max(1, (leaf_size + 1) // 2) + 1) + 1
-
-
 #: Columns of a node's record in ``_tree``: its centre (float64), then, as float32 in the
 #: same 64 bytes, its radius, summed area vector and the symmetric part of its first moment.
 _CENTRE = 3
@@ -210,13 +202,28 @@ def _tree(tri: np.ndarray, leaf_size: int = LEAF_SIZE) -> tuple:
 
 def _shape(n: int, leaf_size: int) -> tuple:
     """``lo, hi, link, level`` of the hierarchy over `n` items (see ``_layout``)."""
-    cap = _tree_capacity(n, leaf_size)
-    lo = np.empty(cap, np.int64)
-    hi = np.empty(cap, np.int64)
-    link = np.empty((cap, 2), np.int64)
+    count = _node_count(n, leaf_size)
+    lo = np.empty(count, np.int64)
+    hi = np.empty(count, np.int64)
+    link = np.empty((count, 2), np.int64)
     level = np.empty(130, np.int64)
-    count = _layout(n, leaf_size, lo, hi, link, level)
-    return lo[:count], hi[:count], link[:count], level[: np.count_nonzero(level >= 0)]
+    _layout(n, leaf_size, lo, hi, link, level)
+    return lo, hi, link, level[: np.count_nonzero(level >= 0)]
+
+
+def _node_count(n: int, leaf_size: int) -> int:
+    """The number of nodes of ``_layout``'s hierarchy, in O(log n) (each level's
+    ranges have at most two sizes)."""
+    known: dict[int, int] = {}
+
+    def count(k: int) -> int:
+        if k <= leaf_size:
+            return 1
+        if k not in known:
+            known[k] = 1 + count(k // 2) + count(k - k // 2)
+        return known[k]
+
+    return count(n)
 
 
 @njit(cache=True)
@@ -544,6 +551,43 @@ def _set_radius(packed, node, r2):
     packed[node, _RADIUS] = radius
 
 
+@njit(cache=True, inline="always")
+def _far_field(nodes, packed, node, qx, qy, qz, ratio, second_order):
+    """``(True, term)`` if `node` is far from ``q`` (beyond `ratio` radii), else ``(False, 0)``.
+
+    The far field to second order: the cluster's area vector D and the
+    symmetric part S of its first moment about its centre, at r = centre - q:
+    D.r/|r|^3 + tr(S)/|r|^3 - 3 r.S.r/|r|^5.
+    """
+    dx = nodes[node, 0] - qx
+    dy = nodes[node, 1] - qy
+    dz = nodes[node, 2] - qz
+    d2 = dx * dx + dy * dy + dz * dz
+    reach = ratio * np.float64(packed[node, _RADIUS])
+    if not d2 > reach * reach:
+        return False, 0.0
+    term = (
+        dx * np.float64(packed[node, _DIPOLE])
+        + dy * np.float64(packed[node, _DIPOLE + 1])
+        + dz * np.float64(packed[node, _DIPOLE + 2])
+    )
+    if second_order:
+        sxx = np.float64(packed[node, _MOMENT])
+        syy = np.float64(packed[node, _MOMENT + 1])
+        szz = np.float64(packed[node, _MOMENT + 2])
+        sxy = np.float64(packed[node, _MOMENT + 3])
+        sxz = np.float64(packed[node, _MOMENT + 4])
+        syz = np.float64(packed[node, _MOMENT + 5])
+        rsr = (
+            dx * dx * sxx
+            + dy * dy * syy
+            + dz * dz * szz
+            + 2.0 * (dx * dy * sxy + dx * dz * sxz + dy * dz * syz)
+        )
+        term += sxx + syy + szz - 3.0 * rsr / d2
+    return True, term / (d2 * np.sqrt(d2))
+
+
 #: Queries per call of the compiled ``_query`` (a few tenths of a second at most): Python
 #: reacts to Ctrl-C between calls.
 QUERIES_PER_CALL = 32_768
@@ -578,56 +622,37 @@ def _query(tri, link, nodes, packed, queries, ratio, second_order, out, work):
             qx = q[0]
             qy = q[1]
             qz = q[2]
-            stack[0] = 0
-            top = 1
             total = 0.0
             re = 1.0  # the near field's triangles, as a product (``_near_product``)
             im = 0.0
             turns = 0
-            visits = 0
-            while top > 0:
+            visits = 1
+            top = 0
+            far, term = _far_field(nodes, packed, 0, qx, qy, qz, ratio, second_order)
+            if far:
+                total += term
+            elif link[0, 1] >= 0:
+                re, im, turns = _near_product(tri, link[0, 0], link[0, 1], q, re, im, turns)
+                visits += link[0, 1] - link[0, 0]
+            else:
+                stack[0] = 0
+                top = 1
+            while top > 0:  # inner nodes near the query: their two children
                 top -= 1
-                node = stack[top]
-                visits += 1
-                dx = nodes[node, 0] - qx
-                dy = nodes[node, 1] - qy
-                dz = nodes[node, 2] - qz
-                d2 = dx * dx + dy * dy + dz * dz
-                reach = ratio * np.float64(packed[node, _RADIUS])
-                if d2 > reach * reach:
-                    # far field to second order: the cluster's area vector D and
-                    # the symmetric part S of its first moment about its centre,
-                    # at r = centre - q: D.r/|r|^3 + tr(S)/|r|^3 - 3 r.S.r/|r|^5
-                    inv3 = 1.0 / (d2 * np.sqrt(d2))
-                    term = (
-                        dx * np.float64(packed[node, _DIPOLE])
-                        + dy * np.float64(packed[node, _DIPOLE + 1])
-                        + dz * np.float64(packed[node, _DIPOLE + 2])
-                    )
-                    if second_order:
-                        sxx = np.float64(packed[node, _MOMENT])
-                        syy = np.float64(packed[node, _MOMENT + 1])
-                        szz = np.float64(packed[node, _MOMENT + 2])
-                        sxy = np.float64(packed[node, _MOMENT + 3])
-                        sxz = np.float64(packed[node, _MOMENT + 4])
-                        syz = np.float64(packed[node, _MOMENT + 5])
-                        rsr = (
-                            dx * dx * sxx
-                            + dy * dy * syy
-                            + dz * dz * szz
-                            + 2.0 * (dx * dy * sxy + dx * dz * sxz + dy * dz * syz)
+                first = link[stack[top], 0]
+                for node in range(first, first + 2):
+                    visits += 1
+                    far, term = _far_field(nodes, packed, node, qx, qy, qz, ratio, second_order)
+                    if far:
+                        total += term
+                    elif link[node, 1] >= 0:
+                        re, im, turns = _near_product(
+                            tri, link[node, 0], link[node, 1], q, re, im, turns
                         )
-                        term += sxx + syy + szz - 3.0 * rsr / d2
-                    total += term * inv3
-                elif link[node, 1] >= 0:
-                    re, im, turns = _near_product(
-                        tri, link[node, 0], link[node, 1], q, re, im, turns
-                    )
-                    visits += link[node, 1] - link[node, 0]
-                else:
-                    stack[top] = link[node, 0]
-                    stack[top + 1] = link[node, 0] + 1
-                    top += 2
+                        visits += link[node, 1] - link[node, 0]
+                    else:
+                        stack[top] = node
+                        top += 1
             out[i] = total + 2.0 * (np.arctan2(im, re) + 2.0 * np.pi * turns)
             work[i] = visits
 
@@ -898,6 +923,9 @@ def winding_number(
     points = np.ascontiguousarray(points, dtype=np.float64)
     value = np.empty(len(points))
     if len(points) == 0:
+        return value
+    if np.size(faces) == 0:  # no surface: winding number 0 everywhere
+        value[:] = 0.0
         return value
     tri = _ordered_triangles(vertices, faces)
     tree = _tree(tri)
