@@ -3,11 +3,19 @@
 The winding number of a closed, consistently oriented surface about a point is
 1 inside and 0 outside (-1 inside a surface oriented inward).  We evaluate it
 with a bounding-volume hierarchy over the triangles (Barill et al. 2018, "Fast
-winding numbers for soups and clouds", doi:10.1145/3197517.3201337):
+winding numbers for soups and clouds", doi:10.1145/3197517.3201337): a k-d
+tree whose nodes split their triangles at the median along the longest side of
+their centroids' box (tight clusters: a query near the surface opens few of
+them), built level by level in compiled passes, each node a 64-byte record
+(centre in float64; radius, rounded up, and far-field terms in float32, whose
+rounding is far below the far field's own error):
 
 * near field: every triangle whose cluster is closer than ``FAR_FIELD_RATIO``
   times the cluster's radius contributes its exact float64 solid angle
-  (Van Oosterom & Strackee 1983, doi:10.1109/TBME.1983.325207);
+  (Van Oosterom & Strackee 1983, doi:10.1109/TBME.1983.325207), each
+  ``2 atan2(det, den)``; the arguments are added as the argument of the
+  product of the ``den + i det`` with a count of the turns, one arctangent
+  per query (``_near_product``; the same sum to within a few ulps a term);
 * far field: a cluster contributes its dipole term (its summed area vector
   about its area-weighted centre), whose error is small because it is far.
   ``winding_number`` uses ratio 2 (values within about 0.05 of the exact
@@ -42,7 +50,8 @@ triangle gets the strips it needs except the very longest (the few to a stray
 vertex far away), which share what is left as fewer, longer strips instead of
 millions.  Queries are processed in spatial order (adaptive, so a
 stray vertex does not spoil it), which keeps the parts of the hierarchy they
-visit in cache.  Everything is O((points + faces) log faces).
+visit in cache, in parallel, each alone: the values do not depend on the
+number of threads.  Everything is O((points + faces) log faces).
 """
 
 from __future__ import annotations
