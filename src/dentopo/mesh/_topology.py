@@ -125,7 +125,8 @@ def _consistent_boundary(faces: np.ndarray, n_vertices: int) -> np.ndarray | Non
     boundary = np.empty(3 * len(faces), dtype=np.bool_)
     if not _reverse_missing(faces, n_vertices, boundary):
         return None
-    return _directed_edges(faces)[boundary]
+    corner, face = np.divmod(np.flatnonzero(boundary), len(faces))  # e = corner * m + face
+    return np.stack([faces[face, corner], faces[face, (corner + 1) % 3]], axis=1)
 
 
 @njit(cache=True)

@@ -204,7 +204,7 @@ def _tree(tri: np.ndarray, leaf_size: int = LEAF_SIZE) -> tuple:
     """
     lo, hi, link, level = _shape(len(tri), leaf_size)
     nodes = np.zeros((len(link), 8))
-    weight = np.empty((len(link), 4))
+    weight = np.empty(len(link), np.float32)
     _summarise(tri, lo, hi, link, level, nodes, nodes.view(np.float32), weight)
     return link, nodes, nodes.view(np.float32)
 
@@ -469,8 +469,9 @@ def _summarise(tri, lo, hi, link, level, nodes, packed, weight):
     vertices, rounded up to float32; the first moment of the area vectors about
     the centre, ``M_ij = sum e_i a_j``, enters the far field only through its
     symmetric part.  Bottom up: a leaf's sums from its triangles, an inner
-    node's from its children's (``weight``, the caller's (nodes, 4) float64
-    array, carries their areas and area vectors); then each level's radii, one
+    node's from its children's (``weight``, the caller's float32 array, carries
+    their areas; any centre will do, as long as the radius and moments are
+    taken about the centre stored); then each level's radii, one
     pass over the triangles, its nodes in parallel on large meshes.  Nothing is
     returned (see ``_layout``).
     """
@@ -499,17 +500,18 @@ def _combine(tri, lo, hi, link, nodes, packed, weight, node, sums):
         a = lo[node]
         _sums(tri, a, hi[node], tri[a, 0, 0], tri[a, 0, 1], tri[a, 0, 2], sums)
         _store(sums, node, nodes, packed)
-        for k in range(4):
-            weight[node, k] = sums[k if k == 0 else 3 + k]
+        weight[node] = sums[0]
         _set_radius(packed, node, _reach2(tri, a, hi[node], sums[1], sums[2], sums[3]))
         return
     first = link[node, 0]
     second = first + 1
-    area = weight[first, 0] + weight[second, 0]
+    w1 = np.float64(weight[first])
+    w2 = np.float64(weight[second])
+    area = w1 + w2
     if area > 0:
-        cx = (weight[first, 0] * nodes[first, 0] + weight[second, 0] * nodes[second, 0]) / area
-        cy = (weight[first, 0] * nodes[first, 1] + weight[second, 0] * nodes[second, 1]) / area
-        cz = (weight[first, 0] * nodes[first, 2] + weight[second, 0] * nodes[second, 2]) / area
+        cx = (w1 * nodes[first, 0] + w2 * nodes[second, 0]) / area
+        cy = (w1 * nodes[first, 1] + w2 * nodes[second, 1]) / area
+        cz = (w1 * nodes[first, 2] + w2 * nodes[second, 2]) / area
     else:
         cx = nodes[first, 0]
         cy = nodes[first, 1]
@@ -519,9 +521,9 @@ def _combine(tri, lo, hi, link, nodes, packed, weight, node, sums):
         ex = nodes[child, 0] - cx
         ey = nodes[child, 1] - cy
         ez = nodes[child, 2] - cz
-        dx = weight[child, 1]
-        dy = weight[child, 2]
-        dz = weight[child, 3]
+        dx = np.float64(packed[child, _DIPOLE])
+        dy = np.float64(packed[child, _DIPOLE + 1])
+        dz = np.float64(packed[child, _DIPOLE + 2])
         # about the new centre: S + sym((c_child - c) D^T)
         sxx += np.float64(packed[child, _MOMENT]) + ex * dx
         syy += np.float64(packed[child, _MOMENT + 1]) + ey * dy
@@ -529,13 +531,14 @@ def _combine(tri, lo, hi, link, nodes, packed, weight, node, sums):
         sxy += np.float64(packed[child, _MOMENT + 3]) + 0.5 * (ex * dy + ey * dx)
         sxz += np.float64(packed[child, _MOMENT + 4]) + 0.5 * (ex * dz + ez * dx)
         syz += np.float64(packed[child, _MOMENT + 5]) + 0.5 * (ey * dz + ez * dy)
-    weight[node, 0] = area
+    weight[node] = area
     nodes[node, 0] = cx
     nodes[node, 1] = cy
     nodes[node, 2] = cz
-    for x in range(1, 4):
-        weight[node, x] = weight[first, x] + weight[second, x]
-        packed[node, _DIPOLE + x - 1] = weight[node, x]
+    for x in range(3):
+        packed[node, _DIPOLE + x] = np.float64(packed[first, _DIPOLE + x]) + np.float64(
+            packed[second, _DIPOLE + x]
+        )
     packed[node, _MOMENT] = sxx
     packed[node, _MOMENT + 1] = syy
     packed[node, _MOMENT + 2] = szz
