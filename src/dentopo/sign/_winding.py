@@ -616,6 +616,10 @@ def _approximate(tri, tree, queries, ratio, second_order):
     return out, work
 
 
+#: Fewer queries than this are computed on one thread: starting the threads would cost more.
+PARALLEL_QUERIES = 2048
+
+
 @njit(cache=True, parallel=True)
 def _query(tri, link, nodes, packed, queries, ratio, second_order, out, work):
     """Approximate solid angles (4 pi w) at the queries, and each query's work.
@@ -627,46 +631,59 @@ def _query(tri, link, nodes, packed, queries, ratio, second_order, out, work):
     """
     n = queries.shape[0]
     n_chunks = min(n, 256)
-    for chunk in prange(n_chunks):
-        stack = np.empty(256, np.int64)  # one traversal stack per chunk of queries
-        for i in range(chunk * n // n_chunks, (chunk + 1) * n // n_chunks):
-            q = queries[i]
-            qx = q[0]
-            qy = q[1]
-            qz = q[2]
-            total = 0.0
-            re = 1.0  # the near field's triangles, as a product (``_near_product``)
-            im = 0.0
-            turns = 0
-            visits = 1
-            top = 0
-            far, term = _far_field(nodes, packed, 0, qx, qy, qz, ratio, second_order)
-            if far:
-                total += term
-            elif link[0, 1] >= 0:
-                re, im, turns = _near_product(tri, link[0, 0], link[0, 1], q, re, im, turns)
-                visits += link[0, 1] - link[0, 0]
-            else:
-                stack[0] = 0
-                top = 1
-            while top > 0:  # inner nodes near the query: their two children
-                top -= 1
-                first = link[stack[top], 0]
-                for node in range(first, first + 2):
-                    visits += 1
-                    far, term = _far_field(nodes, packed, node, qx, qy, qz, ratio, second_order)
-                    if far:
-                        total += term
-                    elif link[node, 1] >= 0:
-                        re, im, turns = _near_product(
-                            tri, link[node, 0], link[node, 1], q, re, im, turns
-                        )
-                        visits += link[node, 1] - link[node, 0]
-                    else:
-                        stack[top] = node
-                        top += 1
-            out[i] = total + 2.0 * (np.arctan2(im, re) + 2.0 * np.pi * turns)
-            work[i] = visits
+    if n >= PARALLEL_QUERIES:
+        for chunk in prange(n_chunks):
+            first = chunk * n // n_chunks
+            last = (chunk + 1) * n // n_chunks
+            _query_range(
+                tri, link, nodes, packed, queries, ratio, second_order, out, work, first, last
+            )
+    else:
+        _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, work, 0, n)
+
+
+@njit(cache=True)
+def _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, work, first, last):
+    """``_query`` for the queries ``first:last``."""
+    stack = np.empty(256, np.int64)
+    for i in range(first, last):
+        q = queries[i]
+        qx = q[0]
+        qy = q[1]
+        qz = q[2]
+        total = 0.0
+        re = 1.0  # the near field's triangles, as a product (``_near_product``)
+        im = 0.0
+        turns = 0
+        visits = 1
+        top = 0
+        far, term = _far_field(nodes, packed, 0, qx, qy, qz, ratio, second_order)
+        if far:
+            total += term
+        elif link[0, 1] >= 0:
+            re, im, turns = _near_product(tri, link[0, 0], link[0, 1], q, re, im, turns)
+            visits += link[0, 1] - link[0, 0]
+        else:
+            stack[0] = 0
+            top = 1
+        while top > 0:  # inner nodes near the query: their two children
+            top -= 1
+            child = link[stack[top], 0]
+            for node in range(child, child + 2):
+                visits += 1
+                far, term = _far_field(nodes, packed, node, qx, qy, qz, ratio, second_order)
+                if far:
+                    total += term
+                elif link[node, 1] >= 0:
+                    re, im, turns = _near_product(
+                        tri, link[node, 0], link[node, 1], q, re, im, turns
+                    )
+                    visits += link[node, 1] - link[node, 0]
+                else:
+                    stack[top] = node
+                    top += 1
+        out[i] = total + 2.0 * (np.arctan2(im, re) + 2.0 * np.pi * turns)
+        work[i] = visits
 
 
 def _exact(tri: np.ndarray, queries: np.ndarray) -> np.ndarray:
