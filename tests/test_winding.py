@@ -166,3 +166,145 @@ def test_strip_budget_caps_only_the_largest_requests():
     capped = _capped(wanted, 30)
     np.testing.assert_array_equal(capped, [3, 1, 12, 2, 12, 0])  # 6 + 2 x 12 = 30
     assert _capped(wanted, 3).sum() <= 3
+
+
+# --- the hierarchy, the near field's product and the thread count ---------------------------
+
+
+def _thin_slab(thickness: float) -> trimesh.Trimesh:
+    """A closed box 1 x 1 x `thickness`, finely triangulated (both faces close together)."""
+    slab = trimesh.creation.box(extents=(1.0, 1.0, thickness))
+    for _ in range(4):
+        slab = slab.subdivide()
+    return slab
+
+
+def test_thin_slab_and_points_near_both_faces_agree_with_the_exact_test():
+    slab = _thin_slab(1e-3)
+    rng = np.random.default_rng(3)
+    xy = rng.uniform(-0.49, 0.49, size=(3000, 2))
+    # anywhere across the slab and just outside, and a hair's breadth from either face
+    z = rng.uniform(0, 1e-3, 3000)
+    z[::3] = 5e-4 + rng.choice([-1e-9, 1e-9], 1000)
+    points = np.column_stack([xy, rng.choice([-1.0, 1.0], 3000) * z])
+    exact = exact_winding_number(slab.vertices, slab.faces, points)
+    assert 0.2 < np.mean(np.abs(exact) > 0.5) < 0.8  # both sides are represented
+    expected = np.abs(exact) > 0.5
+    np.testing.assert_array_equal(inside(slab.vertices, slab.faces, points), expected)
+    np.testing.assert_array_equal(expected, np.abs(points[:, 2]) < 5e-4)
+
+
+def test_points_near_an_open_crown_capped_agree_with_the_exact_test(tooth):
+    vertices, faces = close_holes(np.asarray(tooth.vertices), np.asarray(tooth.faces))
+    rng = np.random.default_rng(4)
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    edge = float(np.median(mesh.edges_unique_length))
+    base = np.asarray(tooth.vertices)[rng.integers(0, len(tooth.vertices), 4000)]
+    scale = np.array([edge, 1e-3 * edge, 1e-9])[rng.integers(0, 3, len(base))]
+    points = base + scale[:, None] * rng.normal(size=base.shape)  # near, very near, on it
+    exact = exact_winding_number(vertices, faces, points)
+    np.testing.assert_array_equal(inside(vertices, faces, points), np.abs(exact) > 0.5)
+
+
+def test_the_near_field_product_equals_the_sum_of_arctangents(sphere):
+    # with an infinite far-field ratio every triangle is near: the product of ``_near_product``
+    # against the sum of arctangents of ``_exact``, also for points on the surface
+    from dentopo.sign._winding import _approximate, _exact, _ordered_triangles, _tree
+
+    rng = np.random.default_rng(5)
+    points = np.vstack(
+        [
+            rng.uniform(-1.5, 1.5, size=(500, 3)),
+            sphere.triangles_center,  # on the surface
+            sphere.vertices,  # on a vertex: atan2(0, 0) terms
+            sphere.triangles_center + 1e-12 * sphere.face_normals,
+        ]
+    )
+    tri = _ordered_triangles(sphere.vertices, sphere.faces)
+    near, _ = _approximate(tri, _tree(tri), points, np.inf, True)
+    np.testing.assert_allclose(near, _exact(tri, points), rtol=0, atol=1e-12)
+
+
+def test_the_hierarchy_holds_its_triangles():
+    # every triangle once, each node's sphere holds its vertices, its area vector is the sum
+    from dentopo.sign._winding import _DIPOLE, _RADIUS, _ordered_triangles, _shape, _tree
+
+    slab = _thin_slab(0.2)
+    tri = _ordered_triangles(slab.vertices, slab.faces)
+    expected = np.sort(np.asarray(slab.triangles).reshape(len(slab.faces), 9), axis=0)
+    np.testing.assert_array_equal(np.sort(tri.reshape(len(tri), 9), axis=0), expected)
+    link, nodes, packed = _tree(tri)
+    lo, hi, _, _ = _shape(len(tri), 4)
+    area = 0.5 * np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    for node in range(len(link)):
+        vertices = tri[lo[node] : hi[node]].reshape(-1, 3)
+        reach = np.linalg.norm(vertices - nodes[node, :3], axis=1).max()
+        assert reach <= packed[node, _RADIUS]
+        np.testing.assert_allclose(
+            packed[node, _DIPOLE : _DIPOLE + 3], area[lo[node] : hi[node]].sum(0), atol=1e-6
+        )
+        if link[node, 1] >= 0:
+            assert (lo[node], hi[node]) == tuple(link[node])
+
+
+def test_node_count_is_that_of_the_layout():
+    from dentopo.sign._winding import _node_count
+
+    def halving(n, leaf):  # the ranges of ``_layout``, one by one
+        ranges, count = [n], 0
+        while ranges:
+            k = ranges.pop()
+            count += 1
+            if k > leaf:
+                ranges += [k // 2, k - k // 2]
+        return count
+
+    for leaf in (1, 2, 4, 5):
+        for n in [*range(0, 70), 1000, 4097, 12345]:
+            assert _node_count(n, leaf) == halving(n, leaf), (n, leaf)
+
+
+def test_winding_numbers_do_not_depend_on_the_thread_count(tmp_path):
+    # each query is computed alone and the hierarchy's levels own their ranges: the same
+    # bits with 1 and 2 threads, on a mesh large enough for the parallel build
+    import subprocess
+    import sys
+
+    script = tmp_path / "run.py"
+    script.write_text(
+        "import sys, numpy as np\n"
+        "from dentopo.samples import tooth\n"
+        "from dentopo.mesh import close_holes\n"
+        "from dentopo.sign import winding_number\n"
+        "crown = tooth(rings=190)\n"  # 108k vertices, 216k faces
+        "v, f = close_holes(np.asarray(crown.vertices), np.asarray(crown.faces))\n"
+        "rng = np.random.default_rng(6)\n"
+        "p = v[rng.integers(0, len(v), 20000)] + rng.normal(scale=1e-3, size=(20000, 3))\n"
+        "np.save(sys.argv[1], winding_number(v, f, p, far_field_ratio=1.5, second_order=True))\n"
+    )
+    import os
+
+    results = []
+    for threads in ("1", "2"):
+        out = tmp_path / f"w{threads}.npy"
+        env = dict(os.environ, NUMBA_NUM_THREADS=threads)
+        subprocess.run([sys.executable, str(script), str(out)], check=True, env=env)
+        results.append(np.load(out))
+    assert results[0].tobytes() == results[1].tobytes()
+
+
+def test_close_holes_finds_the_boundary_of_consistent_faces_like_boundary_edges():
+    from dentopo.mesh._topology import _consistent_boundary
+
+    sphere = trimesh.creation.icosphere(subdivisions=3)
+    opened = sphere.faces[sphere.triangles_center[:, 2] < 0.6]
+    degenerate = np.vstack([opened, [[0, 0, 5]]])  # an edge from a vertex to itself
+    for faces in (opened, degenerate, sphere.faces, opened[:, ::-1]):
+        found = _consistent_boundary(faces, len(sphere.vertices))
+        np.testing.assert_array_equal(found, boundary_edges(faces, len(sphere.vertices)))
+    flipped = opened.copy()
+    flipped[::3] = flipped[::3, ::-1]
+    assert _consistent_boundary(flipped, len(sphere.vertices)) is None  # the general path
+    vertices, faces = close_holes(sphere.vertices, flipped)
+    closed = trimesh.Trimesh(vertices, faces, process=False)
+    assert closed.is_watertight and closed.is_winding_consistent

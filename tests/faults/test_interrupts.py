@@ -189,7 +189,7 @@ from dentopo.sign import inside
 prepared = prepare(tooth(rings=150))
 vertices, faces = close_holes(prepared.points, np.asarray(prepared.mesh.faces))
 rng = np.random.default_rng(0)
-points = np.repeat(prepared.points, 8, axis=0)
+points = np.repeat(prepared.points, 24, axis=0)
 points += rng.normal(scale=1e-3, size=points.shape)  # near the surface: slow queries
 inside(vertices[:40], faces[:10], points[:10])  # loads the compiled code
 print("start", file=sys.stderr, flush=True)
@@ -225,7 +225,7 @@ def test_ctrl_c_in_ariadne_called_from_a_script_is_a_prompt_keyboard_interrupt()
 
 def test_ctrl_c_in_the_winding_number_is_a_prompt_keyboard_interrupt():
     run = start_python(WINDING_SCRIPT)
-    sent = interrupt_when(run, r"^start", 1.5)  # in the queries (about 5 s)
+    sent = interrupt_when(run, r"^start", 1.5)  # in the queries (about 3 s)
     run.wait_for(r"KeyboardInterrupt|finished|Error", timeout=60.0)
     seconds = time.monotonic() - sent
     ran = run.finish()

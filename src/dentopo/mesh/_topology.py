@@ -267,6 +267,80 @@ def boundary_edges(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     return np.column_stack([faces[face, corner], faces[face, (corner + 1) % 3]])
 
 
+def _consistent_boundary(faces: np.ndarray, n_vertices: int) -> np.ndarray | None:
+    """``boundary_edges(faces)`` of consistently oriented faces, or None if they are not.
+
+    In linear time (``_reverse_missing``) instead of sorting the edges: the
+    usual case of ``close_holes``.
+    """
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
+        return None
+    if faces.min() < 0 or faces.max() >= n_vertices:
+        return None  # the general path says what is wrong
+    boundary = np.empty(3 * len(faces), dtype=np.bool_)
+    if not _reverse_missing(faces, n_vertices, boundary):
+        return None
+    corner, face = np.divmod(np.flatnonzero(boundary), len(faces))  # e = corner * m + face
+    return np.stack([faces[face, corner], faces[face, (corner + 1) % 3]], axis=1)
+
+
+@njit(cache=True)
+def _reverse_missing(faces, n, boundary):
+    """``boundary[e]``: no face has the reverse of directed edge e (the order of
+    ``_directed_edges``; an edge from a vertex to itself is its own reverse and
+    counts as a boundary, as in ``boundary_edges``).
+
+    Returns False, with `boundary` unfinished, if some directed edge occurs twice
+    (faces not consistently oriented).  Each vertex's outgoing edges are sorted,
+    so the cost is O(m log(degree)) whatever the degrees.
+    """
+    m = faces.shape[0]
+    start = np.zeros(n + 1, np.int64)
+    for f in range(m):
+        for a in range(3):
+            start[faces[f, a] + 1] += 1
+    for v in range(n):
+        start[v + 1] += start[v]
+    fill = start[:-1].copy()
+    target = np.empty(3 * m, np.int64)
+    for f in range(m):
+        for a in range(3):
+            u = faces[f, a]
+            target[fill[u]] = faces[f, (a + 1) % 3]
+            fill[u] += 1
+    for v in range(n):
+        if start[v + 1] - start[v] > 32:
+            target[start[v] : start[v + 1]] = np.sort(target[start[v] : start[v + 1]])
+        else:  # the usual few: insertion sort, no allocation
+            for k in range(start[v] + 1, start[v + 1]):
+                x = target[k]
+                j = k - 1
+                while j >= start[v] and target[j] > x:
+                    target[j + 1] = target[j]
+                    j -= 1
+                target[j + 1] = x
+        if start[v + 1] - start[v] > 1:
+            for k in range(start[v] + 1, start[v + 1]):
+                if target[k] == target[k - 1]:
+                    return False
+    for f in range(m):
+        for a in range(3):
+            u = faces[f, a]
+            v = faces[f, (a + 1) % 3]
+            lo = start[v]
+            hi = start[v + 1]
+            while lo < hi:  # the first outgoing edge of v to a vertex >= u
+                mid = (lo + hi) // 2
+                if target[mid] < u:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            found = lo < start[v + 1] and target[lo] == u
+            boundary[a * m + f] = u == v or not found
+    return True
+
+
 def close_holes(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """A watertight, consistently oriented version of a mesh for the inside test.
 
@@ -283,8 +357,11 @@ def close_holes(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np
         The consistently oriented faces followed by the cap triangles.
     """
     n = len(vertices)
-    faces = orient_consistently(np.asarray(faces), n)
-    edges = boundary_edges(faces, n)
+    faces = np.asarray(faces)
+    edges = _consistent_boundary(faces, n)
+    if edges is None:  # not consistently oriented: the general path
+        faces = orient_consistently(faces, n)
+        edges = boundary_edges(faces, n)
     if len(edges) == 0:
         return vertices, faces
     graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))

@@ -3,11 +3,19 @@
 The winding number of a closed, consistently oriented surface about a point is
 1 inside and 0 outside (-1 inside a surface oriented inward).  We evaluate it
 with a bounding-volume hierarchy over the triangles (Barill et al. 2018, "Fast
-winding numbers for soups and clouds", doi:10.1145/3197517.3201337):
+winding numbers for soups and clouds", doi:10.1145/3197517.3201337): a k-d
+tree whose nodes split their triangles at the median along the longest side of
+their centroids' box (tight clusters: a query near the surface opens few of
+them), built level by level in compiled passes, each node a 64-byte record
+(centre in float64; radius, rounded up, and far-field terms in float32, whose
+rounding is far below the far field's own error):
 
 * near field: every triangle whose cluster is closer than ``FAR_FIELD_RATIO``
   times the cluster's radius contributes its exact float64 solid angle
-  (Van Oosterom & Strackee 1983, doi:10.1109/TBME.1983.325207);
+  (Van Oosterom & Strackee 1983, doi:10.1109/TBME.1983.325207), each
+  ``2 atan2(det, den)``; the arguments are added as the argument of the
+  product of the ``den + i det`` with a count of the turns, one arctangent
+  per query (``_near_product``; the same sum to within a few ulps a term);
 * far field: a cluster contributes its dipole term (its summed area vector
   about its area-weighted centre), whose error is small because it is far.
   ``winding_number`` uses ratio 2 (values within about 0.05 of the exact
@@ -42,7 +50,8 @@ triangle gets the strips it needs except the very longest (the few to a stray
 vertex far away), which share what is left as fewer, longer strips instead of
 millions.  Queries are processed in spatial order (adaptive, so a
 stray vertex does not spoil it), which keeps the parts of the hierarchy they
-visit in cache.  Everything is O((points + faces) log faces).
+visit in cache, in parallel, each alone: the values do not depend on the
+number of threads.  Everything is O((points + faces) log faces).
 """
 
 from __future__ import annotations
@@ -110,113 +119,485 @@ def _triangle_sum(tri, lo, hi, q):
     return total
 
 
-def _tree_capacity(n_tri: int, leaf_size: int) -> int:
-    """Nodes a hierarchy over `n_tri` triangles can need.
+@njit(cache=True, inline="always")
+def _turn(x0, y0, z0, x1, y1, z1, x2, y2, z2):
+    """Half the solid angle of a triangle as a complex number: its argument.
 
-    Halving leaves at least ``(leaf_size + 1) // 2`` triangles per leaf.
+    ``(re, im)`` with ``atan2(im, re)`` the term of ``_solid_angle`` (before its
+    factor 2); ``(0, 0)`` where that term is ``atan2(0, 0) = 0``.
     """
-    return 4 * (n_tri // max(1, (leaf_size + 1) // 2) + 1) + 1
+    l0 = np.sqrt(x0 * x0 + y0 * y0 + z0 * z0)
+    l1 = np.sqrt(x1 * x1 + y1 * y1 + z1 * z1)
+    l2 = np.sqrt(x2 * x2 + y2 * y2 + z2 * z2)
+    det = x0 * (y1 * z2 - z1 * y2) - y0 * (x1 * z2 - z1 * x2) + z0 * (x1 * y2 - y1 * x2)
+    d01 = x0 * x1 + y0 * y1 + z0 * z1
+    d12 = x1 * x2 + y1 * y2 + z1 * z2
+    d20 = x2 * x0 + y2 * y0 + z2 * z0
+    return l0 * l1 * l2 + d01 * l2 + d12 * l0 + d20 * l1, det
 
 
-def _tree(tri: np.ndarray, leaf_size: int = LEAF_SIZE) -> tuple:
-    """The hierarchy of ``_build``: ``lo, hi, left, centre, dipole, moment, radius`` per node."""
-    cap = _tree_capacity(len(tri), leaf_size)
-    nodes = (
-        np.empty(cap, np.int64),  # lo
-        np.empty(cap, np.int64),  # hi
-        np.full(cap, -1, np.int64),  # left
-        np.zeros((cap, 3)),  # centre
-        np.zeros((cap, 3)),  # dipole
-        np.zeros((cap, 3, 3)),  # moment
-        np.zeros(cap),  # radius
-    )
-    count = _build(tri, leaf_size, *nodes)
-    return tuple(array[:count] for array in nodes)
+@njit(cache=True, inline="always")
+def _upper(re, im):
+    """Whether ``atan2(im, re)`` lies in (0, pi]."""
+    return im > 0.0 or (im == 0.0 and re < 0.0)
 
 
 @njit(cache=True)
-def _build(tri, leaf_size, lo, hi, left, centre, dipole, moment, radius):
-    """Binary hierarchy over the (spatially ordered) triangles, halving index ranges.
+def _near_product(tri, lo, hi, q, re, im, turns):
+    """Multiply ``re + i im`` by the complex terms (``_turn``) of ``tri[lo:hi]`` at `q`.
 
-    Per node: the area-weighted centre, the summed area vector (its dipole) and
-    the radius of the sphere about the centre that holds all its vertices.  The
-    nodes go to arrays of the caller (``_tree``), of at least
-    ``_tree_capacity`` entries, ``left`` filled with -1 and the sums with 0;
-    returns the number of nodes.  (No array is returned: numba boxes one with
-    a little Python code, where a Ctrl-C that arrived meanwhile would be raised
-    and crash the caller; see ``dentopo.ariadne._kernel._run_sums``.)
+    The sum of the terms' arguments is ``atan2(im, re) + 2 pi turns``: one
+    arctangent per query instead of one per triangle.  A product whose
+    argument crosses pi counts a turn, decided by the half-plane of the
+    product as computed, so the sum stays consistent however it rounds (to
+    within a few ulps of each term, like a sum of arctangents).  Returns the
+    new ``(re, im, turns)``; the product is rescaled now and then (only its
+    argument matters).
     """
-    n_tri = tri.shape[0]
-    area_vec = np.empty((n_tri, 3))
-    area = np.empty(n_tri)
-    for t in range(n_tri):
-        ax = tri[t, 1, 0] - tri[t, 0, 0]
-        ay = tri[t, 1, 1] - tri[t, 0, 1]
-        az = tri[t, 1, 2] - tri[t, 0, 2]
-        bx = tri[t, 2, 0] - tri[t, 0, 0]
-        by = tri[t, 2, 1] - tri[t, 0, 1]
-        bz = tri[t, 2, 2] - tri[t, 0, 2]
-        area_vec[t, 0] = 0.5 * (ay * bz - az * by)
-        area_vec[t, 1] = 0.5 * (az * bx - ax * bz)
-        area_vec[t, 2] = 0.5 * (ax * by - ay * bx)
-        area[t] = np.sqrt(area_vec[t, 0] ** 2 + area_vec[t, 1] ** 2 + area_vec[t, 2] ** 2)
+    for t in range(lo, hi):
+        zr, zi = _turn(
+            tri[t, 0, 0] - q[0],
+            tri[t, 0, 1] - q[1],
+            tri[t, 0, 2] - q[2],
+            tri[t, 1, 0] - q[0],
+            tri[t, 1, 1] - q[1],
+            tri[t, 1, 2] - q[2],
+            tri[t, 2, 0] - q[0],
+            tri[t, 2, 1] - q[1],
+            tri[t, 2, 2] - q[2],
+        )
+        if zr == 0.0 and zi == 0.0:
+            continue  # atan2(0, 0) = 0: a vertex at the query
+        nr = re * zr - im * zi
+        ni = re * zi + im * zr
+        up = _upper(re, im)
+        if up == _upper(zr, zi):
+            # both arguments in (0, pi] (or both in (-pi, 0]): their sum crossed pi
+            # (or -pi) if the product lies in the other half and one argument
+            # exceeds pi/2 in size (a negative real part)
+            if _upper(nr, ni) != up and (re < 0.0 or zr < 0.0):
+                turns += 1 if up else -1
+        re = nr
+        im = ni
+        size = abs(re) + abs(im)
+        if size < 1e-100 or size > 1e100:
+            re /= size
+            im /= size
+    return re, im, turns
+
+
+#: Columns of a node's record in ``_tree``: its centre (float64), then, as float32 in the
+#: same 64 bytes, its radius, summed area vector and the symmetric part of its first moment.
+_CENTRE = 3
+_RADIUS, _DIPOLE, _MOMENT = 6, 7, 10  # float32 columns (twice the float64 ones)
+
+
+def _tree(tri: np.ndarray, leaf_size: int = LEAF_SIZE) -> tuple:
+    """The hierarchy over triangles in k-d order (``_ordered_triangles``): its nodes.
+
+    Returns ``(link, nodes, packed)``: ``link[k] = (first child, -1)`` of an inner
+    node, ``(lo, hi)``, its range of triangles, of a leaf; ``nodes[k, :3]`` the
+    node's area-weighted centre (float64) and ``packed`` the same array seen as
+    float32, whose columns ``_RADIUS``, ``_DIPOLE`` (3) and ``_MOMENT`` (6: xx, yy,
+    zz, xy, xz, yz) hold the radius (rounded up) and the far-field terms (see
+    ``_summarise``): one 64-byte record per node.
+    """
+    lo, hi, link, level = _shape(len(tri), leaf_size)
+    nodes = np.zeros((len(link), 8))
+    weight = np.empty(len(link), np.float32)
+    _summarise(tri, lo, hi, link, level, nodes, nodes.view(np.float32), weight)
+    return link, nodes, nodes.view(np.float32)
+
+
+def _shape(n: int, leaf_size: int) -> tuple:
+    """``lo, hi, link, level`` of the hierarchy over `n` items (see ``_layout``)."""
+    count = _node_count(n, leaf_size)
+    lo = np.empty(count, np.int64)
+    hi = np.empty(count, np.int64)
+    link = np.empty((count, 2), np.int64)
+    level = np.empty(130, np.int64)
+    _layout(n, leaf_size, lo, hi, link, level)
+    return lo, hi, link, level[: np.count_nonzero(level >= 0)]
+
+
+def _node_count(n: int, leaf_size: int) -> int:
+    """The number of nodes of ``_layout``'s hierarchy, in O(log n) (each level's
+    ranges have at most two sizes)."""
+    known: dict[int, int] = {}
+
+    def count(k: int) -> int:
+        if k <= leaf_size:
+            return 1
+        if k not in known:
+            known[k] = 1 + count(k // 2) + count(k - k // 2)
+        return known[k]
+
+    return count(n)
+
+
+@njit(cache=True)
+def _layout(n, leaf_size, lo, hi, link, level):
+    """The shape of the hierarchy: index ranges halved until at most `leaf_size`.
+
+    Nodes are numbered level by level (``level[j]`` the first node of level j,
+    then the end, then -1); the two children of a node are consecutive.  The
+    arrays are the caller's (a returned array would be boxed with a little
+    Python code, where a Ctrl-C that arrived meanwhile would be raised and
+    crash the caller; see ``dentopo.ariadne._kernel._run_sums``); returns the
+    number of nodes.
+    """
+    level[:] = -1
     lo[0] = 0
-    hi[0] = n_tri
+    hi[0] = n
     count = 1
     node = 0
+    depth = 0
+    level[0] = 0
+    end = 1
     while node < count:
+        if node == end:
+            depth += 1
+            level[depth] = node
+            end = count
         a = lo[node]
         b = hi[node]
-        total_area = 0.0
-        cx = cy = cz = 0.0
-        dx = dy = dz = 0.0
-        for t in range(a, b):
-            w = area[t] / 3.0
-            cx += w * (tri[t, 0, 0] + tri[t, 1, 0] + tri[t, 2, 0])
-            cy += w * (tri[t, 0, 1] + tri[t, 1, 1] + tri[t, 2, 1])
-            cz += w * (tri[t, 0, 2] + tri[t, 1, 2] + tri[t, 2, 2])
-            dx += area_vec[t, 0]
-            dy += area_vec[t, 1]
-            dz += area_vec[t, 2]
-            total_area += area[t]
-        if total_area > 0:
-            cx /= total_area
-            cy /= total_area
-            cz /= total_area
-        else:
-            cx = tri[a, 0, 0]
-            cy = tri[a, 0, 1]
-            cz = tri[a, 0, 2]
-        centre[node, 0] = cx
-        centre[node, 1] = cy
-        centre[node, 2] = cz
-        dipole[node, 0] = dx
-        dipole[node, 1] = dy
-        dipole[node, 2] = dz
-        r2 = 0.0
-        for t in range(a, b):
-            for k in range(3):
-                d2 = (tri[t, k, 0] - cx) ** 2 + (tri[t, k, 1] - cy) ** 2 + (tri[t, k, 2] - cz) ** 2
-                r2 = max(r2, d2)
-            # first moment of the area vectors about the centre: M_ij = sum e_i a_j
-            ex = (tri[t, 0, 0] + tri[t, 1, 0] + tri[t, 2, 0]) / 3.0 - cx
-            ey = (tri[t, 0, 1] + tri[t, 1, 1] + tri[t, 2, 1]) / 3.0 - cy
-            ez = (tri[t, 0, 2] + tri[t, 1, 2] + tri[t, 2, 2]) / 3.0 - cz
-            for j in range(3):
-                moment[node, 0, j] += ex * area_vec[t, j]
-                moment[node, 1, j] += ey * area_vec[t, j]
-                moment[node, 2, j] += ez * area_vec[t, j]
-        radius[node] = np.sqrt(r2)
         if b - a > leaf_size:
             mid = (a + b) // 2
-            left[node] = count
+            link[node, 0] = count
+            link[node, 1] = -1
             lo[count] = a
             hi[count] = mid
             lo[count + 1] = mid
             hi[count + 1] = b
             count += 2
+        else:
+            link[node, 0] = a
+            link[node, 1] = b
         node += 1
+    level[depth + 1] = count
     return count
+
+
+@njit(cache=True)
+def _select(centres, perm, axis, a, b, k):
+    """Reorder rows ``a:b`` of `centres` (and `perm` alike) so that row `k` is in its place.
+
+    Sorted by ``centres[:, axis]``: quickselect with a median-of-three pivot,
+    smaller keys before `k`, larger after.
+    """
+    left = a
+    right = b - 1
+    while right > left:
+        mid = (left + right) // 2
+        x = centres[left, axis]
+        y = centres[mid, axis]
+        z = centres[right, axis]
+        if x > y:
+            x, y = y, x
+        if y > z:
+            y = z
+        pivot = max(x, y)
+        i = left
+        j = right
+        while i <= j:
+            while centres[i, axis] < pivot:
+                i += 1
+            while centres[j, axis] > pivot:
+                j -= 1
+            if i <= j:
+                for c in range(3):
+                    centres[i, c], centres[j, c] = centres[j, c], centres[i, c]
+                perm[i], perm[j] = perm[j], perm[i]
+                i += 1
+                j -= 1
+        if k <= j:
+            right = j
+        elif k >= i:
+            left = i
+        else:
+            return
+
+
+#: Levels of the hierarchy are built in parallel only over this many triangles: below,
+#: starting the threads (once per level) would cost more than it saves.
+PARALLEL_BUILD = 200_000
+
+
+@njit(cache=True, parallel=True)
+def _kd_order(centres, link, lo, hi, level, perm):
+    """Split each inner node's items at its middle along the longest side of their box.
+
+    Rows of `centres` are moved and `perm` alike; level by level, the nodes of a
+    level in parallel on large meshes (each owns its rows: the order does not
+    depend on the threads).  Nothing is returned (see ``_layout``).
+    """
+    parallel = centres.shape[0] >= PARALLEL_BUILD
+    for depth in range(level.shape[0] - 1):
+        if parallel and level[depth + 1] - level[depth] > 1:
+            for node in prange(level[depth], level[depth + 1]):
+                _kd_split(centres, link, lo, hi, perm, node)
+        else:
+            for node in range(level[depth], level[depth + 1]):
+                _kd_split(centres, link, lo, hi, perm, node)
+
+
+@njit(cache=True)
+def _kd_split(centres, link, lo, hi, perm, node):
+    if link[node, 1] >= 0:  # a leaf
+        return
+    a = lo[node]
+    b = hi[node]
+    lx = ly = lz = np.inf
+    hx = hy = hz = -np.inf
+    for i in range(a, b):
+        lx = min(lx, centres[i, 0])
+        hx = max(hx, centres[i, 0])
+        ly = min(ly, centres[i, 1])
+        hy = max(hy, centres[i, 1])
+        lz = min(lz, centres[i, 2])
+        hz = max(hz, centres[i, 2])
+    axis = 0
+    if hy - ly > hx - lx:
+        axis = 1
+    if hz - lz > max(hx - lx, hy - ly):
+        axis = 2
+    _select(centres, perm, axis, a, b, (a + b) // 2)
+
+
+@njit(cache=True, inline="always")
+def _area_vector(tri, t):
+    ax = tri[t, 1, 0] - tri[t, 0, 0]
+    ay = tri[t, 1, 1] - tri[t, 0, 1]
+    az = tri[t, 1, 2] - tri[t, 0, 2]
+    bx = tri[t, 2, 0] - tri[t, 0, 0]
+    by = tri[t, 2, 1] - tri[t, 0, 1]
+    bz = tri[t, 2, 2] - tri[t, 0, 2]
+    return 0.5 * (ay * bz - az * by), 0.5 * (az * bx - ax * bz), 0.5 * (ax * by - ay * bx)
+
+
+@njit(cache=True)
+def _sums(tri, a, b, ox, oy, oz, out):
+    """Sums over ``tri[a:b]`` about the point ``o``; returns the largest squared distance
+    of a vertex from ``o``.
+
+    ``out``: area, area-weighted centre (3; the first vertex if the area is 0),
+    summed area vector (3), symmetric part of ``sum (g - c) a^T`` (6: xx, yy, zz,
+    xy, xz, yz), with ``g`` each triangle's centroid, ``a`` its area vector and
+    ``c`` the centre (summed about ``o``, then shifted).
+    """
+    total = cx = cy = cz = dx = dy = dz = 0.0
+    mxx = myy = mzz = mxy = mxz = myz = 0.0
+    r2 = 0.0
+    for t in range(a, b):
+        for k in range(3):
+            ux = tri[t, k, 0] - ox
+            uy = tri[t, k, 1] - oy
+            uz = tri[t, k, 2] - oz
+            r2 = max(r2, ux * ux + uy * uy + uz * uz)
+        vx, vy, vz = _area_vector(tri, t)
+        area = np.sqrt(vx * vx + vy * vy + vz * vz)
+        ex = (tri[t, 0, 0] + tri[t, 1, 0] + tri[t, 2, 0]) / 3.0 - ox
+        ey = (tri[t, 0, 1] + tri[t, 1, 1] + tri[t, 2, 1]) / 3.0 - oy
+        ez = (tri[t, 0, 2] + tri[t, 1, 2] + tri[t, 2, 2]) / 3.0 - oz
+        total += area
+        cx += area * ex
+        cy += area * ey
+        cz += area * ez
+        dx += vx
+        dy += vy
+        dz += vz
+        mxx += ex * vx
+        myy += ey * vy
+        mzz += ez * vz
+        mxy += 0.5 * (ex * vy + ey * vx)
+        mxz += 0.5 * (ex * vz + ez * vx)
+        myz += 0.5 * (ey * vz + ez * vy)
+    if total > 0:
+        cx /= total
+        cy /= total
+        cz /= total
+    else:
+        cx = tri[a, 0, 0] - ox
+        cy = tri[a, 0, 1] - oy
+        cz = tri[a, 0, 2] - oz
+    out[0] = total
+    out[1] = cx + ox
+    out[2] = cy + oy
+    out[3] = cz + oz
+    out[4] = dx
+    out[5] = dy
+    out[6] = dz
+    # about the centre: sum (g - c) a^T = sum (g - o) a^T - (c - o) D^T
+    out[7] = mxx - cx * dx
+    out[8] = myy - cy * dy
+    out[9] = mzz - cz * dz
+    out[10] = mxy - 0.5 * (cx * dy + cy * dx)
+    out[11] = mxz - 0.5 * (cx * dz + cz * dx)
+    out[12] = myz - 0.5 * (cy * dz + cz * dy)
+    return r2
+
+
+@njit(cache=True)
+def _reach2(tri, a, b, ox, oy, oz):
+    """The largest squared distance of a vertex of ``tri[a:b]`` from the point ``o``."""
+    r2 = 0.0
+    for t in range(a, b):
+        for k in range(3):
+            ux = tri[t, k, 0] - ox
+            uy = tri[t, k, 1] - oy
+            uz = tri[t, k, 2] - oz
+            r2 = max(r2, ux * ux + uy * uy + uz * uz)
+    return r2
+
+
+@njit(cache=True, inline="always")
+def _store(sums, node, nodes, packed):
+    nodes[node, 0] = sums[1]
+    nodes[node, 1] = sums[2]
+    nodes[node, 2] = sums[3]
+    for k in range(3):
+        packed[node, _DIPOLE + k] = sums[4 + k]
+    for k in range(6):
+        packed[node, _MOMENT + k] = sums[7 + k]
+
+
+@njit(cache=True, parallel=True)
+def _summarise(tri, lo, hi, link, level, nodes, packed, weight):
+    """Each node's area-weighted centre, radius, summed area vector and first moment.
+
+    The radius is that of the sphere about the centre holding all the node's
+    vertices, rounded up to float32; the first moment of the area vectors about
+    the centre, ``M_ij = sum e_i a_j``, enters the far field only through its
+    symmetric part.  Bottom up: a leaf's sums from its triangles, an inner
+    node's from its children's (``weight``, the caller's float32 array, carries
+    their areas; any centre will do, as long as the radius and moments are
+    taken about the centre stored); then each level's radii, one
+    pass over the triangles, its nodes in parallel on large meshes.  Nothing is
+    returned (see ``_layout``).
+    """
+    parallel = tri.shape[0] >= PARALLEL_BUILD
+    for depth in range(level.shape[0] - 2, -1, -1):
+        if parallel and level[depth + 1] - level[depth] > 1:
+            for node in prange(level[depth], level[depth + 1]):
+                _combine(tri, lo, hi, link, nodes, packed, weight, node, np.empty(13))
+        else:
+            sums = np.empty(13)
+            for node in range(level[depth], level[depth + 1]):
+                _combine(tri, lo, hi, link, nodes, packed, weight, node, sums)
+    for depth in range(level.shape[0] - 1):
+        if parallel and level[depth + 1] - level[depth] > 1:
+            for node in prange(level[depth], level[depth + 1]):
+                _inner_radius(tri, lo, hi, link, nodes, packed, node)
+        else:
+            for node in range(level[depth], level[depth + 1]):
+                _inner_radius(tri, lo, hi, link, nodes, packed, node)
+
+
+@njit(cache=True)
+def _combine(tri, lo, hi, link, nodes, packed, weight, node, sums):
+    """The sums of `node`: from its triangles (a leaf, with its radius) or its children."""
+    if link[node, 1] >= 0:
+        a = lo[node]
+        _sums(tri, a, hi[node], tri[a, 0, 0], tri[a, 0, 1], tri[a, 0, 2], sums)
+        _store(sums, node, nodes, packed)
+        weight[node] = sums[0]
+        _set_radius(packed, node, _reach2(tri, a, hi[node], sums[1], sums[2], sums[3]))
+        return
+    first = link[node, 0]
+    second = first + 1
+    w1 = np.float64(weight[first])
+    w2 = np.float64(weight[second])
+    area = w1 + w2
+    if area > 0:
+        cx = (w1 * nodes[first, 0] + w2 * nodes[second, 0]) / area
+        cy = (w1 * nodes[first, 1] + w2 * nodes[second, 1]) / area
+        cz = (w1 * nodes[first, 2] + w2 * nodes[second, 2]) / area
+    else:
+        cx = nodes[first, 0]
+        cy = nodes[first, 1]
+        cz = nodes[first, 2]
+    sxx = syy = szz = sxy = sxz = syz = 0.0
+    for child in range(first, first + 2):
+        ex = nodes[child, 0] - cx
+        ey = nodes[child, 1] - cy
+        ez = nodes[child, 2] - cz
+        dx = np.float64(packed[child, _DIPOLE])
+        dy = np.float64(packed[child, _DIPOLE + 1])
+        dz = np.float64(packed[child, _DIPOLE + 2])
+        # about the new centre: S + sym((c_child - c) D^T)
+        sxx += np.float64(packed[child, _MOMENT]) + ex * dx
+        syy += np.float64(packed[child, _MOMENT + 1]) + ey * dy
+        szz += np.float64(packed[child, _MOMENT + 2]) + ez * dz
+        sxy += np.float64(packed[child, _MOMENT + 3]) + 0.5 * (ex * dy + ey * dx)
+        sxz += np.float64(packed[child, _MOMENT + 4]) + 0.5 * (ex * dz + ez * dx)
+        syz += np.float64(packed[child, _MOMENT + 5]) + 0.5 * (ey * dz + ez * dy)
+    weight[node] = area
+    nodes[node, 0] = cx
+    nodes[node, 1] = cy
+    nodes[node, 2] = cz
+    for x in range(3):
+        packed[node, _DIPOLE + x] = np.float64(packed[first, _DIPOLE + x]) + np.float64(
+            packed[second, _DIPOLE + x]
+        )
+    packed[node, _MOMENT] = sxx
+    packed[node, _MOMENT + 1] = syy
+    packed[node, _MOMENT + 2] = szz
+    packed[node, _MOMENT + 3] = sxy
+    packed[node, _MOMENT + 4] = sxz
+    packed[node, _MOMENT + 5] = syz
+
+
+@njit(cache=True)
+def _inner_radius(tri, lo, hi, link, nodes, packed, node):
+    if link[node, 1] < 0:
+        r2 = _reach2(tri, lo[node], hi[node], nodes[node, 0], nodes[node, 1], nodes[node, 2])
+        _set_radius(packed, node, r2)
+
+
+@njit(cache=True, inline="always")
+def _set_radius(packed, node, r2):
+    """The radius, rounded up to float32."""
+    radius = np.float32(np.sqrt(r2))
+    if radius < np.sqrt(r2):
+        radius = np.nextafter(radius, np.float32(np.inf))
+    packed[node, _RADIUS] = radius
+
+
+@njit(cache=True, inline="always")
+def _far_field(nodes, packed, node, qx, qy, qz, ratio, second_order):
+    """``(True, term)`` if `node` is far from ``q`` (beyond `ratio` radii), else ``(False, 0)``.
+
+    The far field to second order: the cluster's area vector D and the
+    symmetric part S of its first moment about its centre, at r = centre - q:
+    D.r/|r|^3 + tr(S)/|r|^3 - 3 r.S.r/|r|^5.
+    """
+    dx = nodes[node, 0] - qx
+    dy = nodes[node, 1] - qy
+    dz = nodes[node, 2] - qz
+    d2 = dx * dx + dy * dy + dz * dz
+    reach = ratio * np.float64(packed[node, _RADIUS])
+    if not d2 > reach * reach:
+        return False, 0.0
+    term = (
+        dx * np.float64(packed[node, _DIPOLE])
+        + dy * np.float64(packed[node, _DIPOLE + 1])
+        + dz * np.float64(packed[node, _DIPOLE + 2])
+    )
+    if second_order:
+        sxx = np.float64(packed[node, _MOMENT])
+        syy = np.float64(packed[node, _MOMENT + 1])
+        szz = np.float64(packed[node, _MOMENT + 2])
+        sxy = np.float64(packed[node, _MOMENT + 3])
+        sxz = np.float64(packed[node, _MOMENT + 4])
+        syz = np.float64(packed[node, _MOMENT + 5])
+        rsr = (
+            dx * dx * sxx
+            + dy * dy * syy
+            + dz * dz * szz
+            + 2.0 * (dx * dy * sxy + dx * dz * sxz + dy * dz * syz)
+        )
+        term += sxx + syy + szz - 3.0 * rsr / d2
+    return True, term / (d2 * np.sqrt(d2))
 
 
 #: Queries per call of the compiled ``_query`` (a few tenths of a second at most): Python
@@ -235,58 +616,74 @@ def _approximate(tri, tree, queries, ratio, second_order):
     return out, work
 
 
+#: Fewer queries than this are computed on one thread: starting the threads would cost more.
+PARALLEL_QUERIES = 2048
+
+
 @njit(cache=True, parallel=True)
-def _query(
-    tri, lo, hi, left, centre, dipole, moment, radius, queries, ratio, second_order, out, work
-):
+def _query(tri, link, nodes, packed, queries, ratio, second_order, out, work):
     """Approximate solid angles (4 pi w) at the queries, and each query's work.
 
     The work is the number of nodes visited plus triangles summed exactly.
     Both go to arrays of the caller (``out``, ``work``); nothing is returned
-    (see ``_build``).
+    (see ``_layout``).  Each query is computed alone: the result does not
+    depend on the number of threads.
     """
     n = queries.shape[0]
     n_chunks = min(n, 256)
-    for chunk in prange(n_chunks):
-        stack = np.empty(256, np.int64)  # one traversal stack per chunk of queries
-        for i in range(chunk * n // n_chunks, (chunk + 1) * n // n_chunks):
-            q = queries[i]
+    if n >= PARALLEL_QUERIES:
+        for chunk in prange(n_chunks):
+            first = chunk * n // n_chunks
+            last = (chunk + 1) * n // n_chunks
+            _query_range(
+                tri, link, nodes, packed, queries, ratio, second_order, out, work, first, last
+            )
+    else:
+        _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, work, 0, n)
+
+
+@njit(cache=True)
+def _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, work, first, last):
+    """``_query`` for the queries ``first:last``."""
+    stack = np.empty(256, np.int64)
+    for i in range(first, last):
+        q = queries[i]
+        qx = q[0]
+        qy = q[1]
+        qz = q[2]
+        total = 0.0
+        re = 1.0  # the near field's triangles, as a product (``_near_product``)
+        im = 0.0
+        turns = 0
+        visits = 1
+        top = 0
+        far, term = _far_field(nodes, packed, 0, qx, qy, qz, ratio, second_order)
+        if far:
+            total += term
+        elif link[0, 1] >= 0:
+            re, im, turns = _near_product(tri, link[0, 0], link[0, 1], q, re, im, turns)
+            visits += link[0, 1] - link[0, 0]
+        else:
             stack[0] = 0
             top = 1
-            total = 0.0
-            visits = 0
-            while top > 0:
-                top -= 1
-                node = stack[top]
+        while top > 0:  # inner nodes near the query: their two children
+            top -= 1
+            child = link[stack[top], 0]
+            for node in range(child, child + 2):
                 visits += 1
-                dx = centre[node, 0] - q[0]
-                dy = centre[node, 1] - q[1]
-                dz = centre[node, 2] - q[2]
-                dist = np.sqrt(dx * dx + dy * dy + dz * dz)
-                if dist > ratio * radius[node]:
-                    # far field to second order: the cluster's area vector D and
-                    # first moment M about its centre, at r = centre - q:
-                    # D.r/|r|^3 + tr(M)/|r|^3 - 3 r.M.r/|r|^5
-                    inv3 = 1.0 / (dist * dist * dist)
-                    term = dx * dipole[node, 0] + dy * dipole[node, 1] + dz * dipole[node, 2]
-                    if second_order:
-                        m = moment[node]
-                        rmr = (
-                            dx * (m[0, 0] * dx + m[0, 1] * dy + m[0, 2] * dz)
-                            + dy * (m[1, 0] * dx + m[1, 1] * dy + m[1, 2] * dz)
-                            + dz * (m[2, 0] * dx + m[2, 1] * dy + m[2, 2] * dz)
-                        )
-                        term += m[0, 0] + m[1, 1] + m[2, 2] - 3.0 * rmr / (dist * dist)
-                    total += term * inv3
-                elif left[node] < 0:
-                    total += _triangle_sum(tri, lo[node], hi[node], q)
-                    visits += hi[node] - lo[node]
+                far, term = _far_field(nodes, packed, node, qx, qy, qz, ratio, second_order)
+                if far:
+                    total += term
+                elif link[node, 1] >= 0:
+                    re, im, turns = _near_product(
+                        tri, link[node, 0], link[node, 1], q, re, im, turns
+                    )
+                    visits += link[node, 1] - link[node, 0]
                 else:
-                    stack[top] = left[node]
-                    stack[top + 1] = left[node] + 1
-                    top += 2
-            out[i] = total
-            work[i] = visits
+                    stack[top] = node
+                    top += 1
+        out[i] = total + 2.0 * (np.arctan2(im, re) + 2.0 * np.pi * turns)
+        work[i] = visits
 
 
 def _exact(tri: np.ndarray, queries: np.ndarray) -> np.ndarray:
@@ -300,7 +697,7 @@ def _exact(tri: np.ndarray, queries: np.ndarray) -> np.ndarray:
 def _exact_sums(tri, queries, out):
     """``out[i]``: the solid angle of all of `tri` at ``queries[i]``.
 
-    Nothing is returned (see ``_build``).
+    Nothing is returned (see ``_layout``).
     """
     for i in prange(queries.shape[0]):
         out[i] = _triangle_sum(tri, 0, tri.shape[0], queries[i])
@@ -314,7 +711,7 @@ def _cut_strips(tri, ptr, bounds, out):
     ``s = 0``) to that edge (``s = 1``) between the fractions
     ``bounds[ptr[t]:ptr[t + 1]]`` (0 first, 1 last), and keep the triangle's
     orientation: 1 + 2 (pieces - 1) triangles, written to `out` (nothing is
-    returned, see ``_build``).
+    returned, see ``_layout``).
     """
     k = 0
     for t in range(tri.shape[0]):
@@ -388,31 +785,37 @@ def _strip_bounds(longest: np.ndarray, target: float, allowed: int):
     return pieces, ptr, 1.0 - u[reverse]
 
 
-def _split_long(tri: np.ndarray, *, overwrite: bool = False) -> np.ndarray:
+def _long_strips(longest: np.ndarray, triangles) -> tuple[np.ndarray, np.ndarray]:
+    """The triangles much longer than the typical edge, and the strips that replace them.
+
+    `longest` is each triangle's longest edge; ``triangles(rows)`` gives the
+    (k, 3, 3) coordinates of the triangles `rows`.  Returns their indices and
+    the strips (see ``_cut_strips``), each triangle's strips together.
+    """
+    target = LONG_TRIANGLE * float(np.median(longest)) if len(longest) else 0.0
+    if not target > 0:
+        return np.empty(0, np.int64), np.empty((0, 3, 3))
+    long = np.flatnonzero(longest > target)
+    if len(long) == 0:
+        return long, np.empty((0, 3, 3))
+    pieces, ptr, bounds = _strip_bounds(longest[long], target, STRIP_BUDGET * len(longest))
+    cut = np.empty((int((2 * pieces - 1).sum()), 3, 3))
+    _cut_strips(np.ascontiguousarray(triangles(long), dtype=np.float64), ptr, bounds, cut)
+    return long, cut
+
+
+def _split_long(tri: np.ndarray) -> np.ndarray:
     """Cut triangles much longer than the typical edge into strips (same surface).
 
-    With ``overwrite``, ``tri`` itself is reused (each long triangle's first
-    strip takes its place), which saves copying a large array.
+    The other triangles, in their order, then the strips.
     """
     edge = np.stack(
         [np.linalg.norm(tri[:, (a + 1) % 3] - tri[:, a], axis=1) for a in range(3)], axis=1
     )
-    longest = edge.max(axis=1)
-    target = LONG_TRIANGLE * float(np.median(longest))
-    if not target > 0:
-        return tri
-    long = np.flatnonzero(longest > target)
+    long, cut = _long_strips(edge.max(axis=1), lambda rows: tri[rows])
     if len(long) == 0:
         return tri
-    pieces, ptr, bounds = _strip_bounds(longest[long], target, STRIP_BUDGET * len(tri))
-    strips = 2 * pieces - 1
-    cut = np.empty((int(strips.sum()), 3, 3))
-    _cut_strips(np.ascontiguousarray(tri[long]), ptr, bounds, cut)
-    first = np.concatenate([[0], np.cumsum(strips)[:-1]])
-    if not overwrite:
-        tri = tri.copy()
-    tri[long] = cut[first]
-    return np.concatenate([tri, np.delete(cut, first, axis=0)])
+    return np.concatenate([np.delete(tri, long, axis=0), cut])
 
 
 def _capped(wanted: np.ndarray, allowed: int) -> np.ndarray:
@@ -434,11 +837,78 @@ def _capped(wanted: np.ndarray, allowed: int) -> np.ndarray:
     return np.minimum(wanted, s[j] + (allowed - totals[j]) // max(above, 1))
 
 
-def _ordered_triangles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def _ordered_triangles(
+    vertices: np.ndarray, faces: np.ndarray, leaf_size: int = LEAF_SIZE
+) -> np.ndarray:
+    """The mesh's triangles, long ones cut (``_split_long``), in the k-d order of ``_tree``.
 
-    tri = np.ascontiguousarray(vertices[faces], dtype=np.float64)  # a fresh array: ours
-    tri = _split_long(tri, overwrite=True)
-    return np.ascontiguousarray(tri[spatial_order(tri.mean(axis=1))])
+    Built once, in that order, from the vertices, the faces and the strips:
+    no copy of the mesh's triangles is made before it.
+    """
+    vertices = np.ascontiguousarray(vertices, dtype=np.float64)
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    longest = np.empty(len(faces))
+    _longest_edges(vertices, faces, longest)
+    long, cut = _long_strips(longest, lambda rows: vertices[faces[rows]])
+    keep = np.arange(len(faces)) if len(long) == 0 else np.delete(np.arange(len(faces)), long)
+    n = len(keep) + len(cut)
+    centres = np.empty((n, 3))
+    _item_centres(vertices, faces, keep, cut, centres)
+    perm = np.arange(n)
+    lo, hi, link, level = _shape(n, leaf_size)
+    _kd_order(centres, link, lo, hi, level, perm)
+    del centres, lo, hi, link, level
+    tri = np.empty((n, 3, 3))
+    _gather(vertices, faces, keep, cut, perm, tri)
+    return tri
+
+
+@njit(cache=True)
+def _longest_edges(vertices, faces, out):
+    """``out[f]``: the longest edge of face f.  Nothing is returned (see ``_layout``)."""
+    for f in range(faces.shape[0]):
+        longest = 0.0
+        for a in range(3):
+            u = faces[f, a]
+            v = faces[f, (a + 1) % 3]
+            d2 = 0.0
+            for x in range(3):
+                d2 += (vertices[v, x] - vertices[u, x]) ** 2
+            longest = max(longest, d2)
+        out[f] = np.sqrt(longest)
+
+
+@njit(cache=True)
+def _item_centres(vertices, faces, keep, cut, out):
+    """Three times the centroid of each item: the kept faces, then the strips."""
+    n_keep = keep.shape[0]
+    for i in range(out.shape[0]):
+        for x in range(3):
+            if i < n_keep:
+                f = keep[i]
+                out[i, x] = (
+                    vertices[faces[f, 0], x] + vertices[faces[f, 1], x] + vertices[faces[f, 2], x]
+                )
+            else:
+                j = i - n_keep
+                out[i, x] = cut[j, 0, x] + cut[j, 1, x] + cut[j, 2, x]
+
+
+@njit(cache=True)
+def _gather(vertices, faces, keep, cut, perm, out):
+    """``out[k]``: the triangle of item ``perm[k]`` (a kept face, or a strip)."""
+    n_keep = keep.shape[0]
+    for k in range(out.shape[0]):
+        i = perm[k]
+        if i < n_keep:
+            for c in range(3):
+                v = faces[keep[i], c]
+                for x in range(3):
+                    out[k, c, x] = vertices[v, x]
+        else:
+            for c in range(3):
+                for x in range(3):
+                    out[k, c, x] = cut[i - n_keep, c, x]
 
 
 def exact_winding_number(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -482,6 +952,9 @@ def winding_number(
     points = np.ascontiguousarray(points, dtype=np.float64)
     value = np.empty(len(points))
     if len(points) == 0:
+        return value
+    if np.size(faces) == 0:  # no surface: winding number 0 everywhere
+        value[:] = 0.0
         return value
     tri = _ordered_triangles(vertices, faces)
     tree = _tree(tri)
