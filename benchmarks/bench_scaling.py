@@ -106,6 +106,18 @@ def make_mesh(vertices: int, folder: Path, noise: float) -> Path:
     return path
 
 
+def make_mesh_apart(vertices: int, folder: Path, noise: float) -> Path:
+    """:func:`make_mesh` in a child process, so that this process stays small.
+
+    Linux carries a parent's high-water mark into a child started by (v)fork and exec (the
+    exec records the old address space's peak in ``ru_maxrss``), so generating a 5M-vertex
+    mesh here would show up as the workers' peak memory.
+    """
+    command = [sys.executable, __file__, "_make", str(vertices), str(folder), repr(noise)]
+    done = subprocess.run(command, capture_output=True, text=True, check=True)
+    return Path(done.stdout.strip().splitlines()[-1])
+
+
 # --------------------------------------------------------------------------------------------
 # worker: one timed call in a fresh process
 # --------------------------------------------------------------------------------------------
@@ -256,7 +268,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.mesh_dir:
             args.mesh_dir.mkdir(parents=True, exist_ok=True)
         for size in args.sizes:
-            mesh = make_mesh(size, args.mesh_dir or scratch, args.noise)
+            mesh = make_mesh_apart(size, args.mesh_dir or scratch, args.noise)
             row = {"target": size}
             runs = {}
             for method in args.methods:
@@ -330,6 +342,9 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
+    if len(sys.argv) > 1 and sys.argv[1] == "_make":
+        print(make_mesh(int(sys.argv[2]), Path(sys.argv[3]), float(sys.argv[4])))
+        raise SystemExit(0)
     if len(sys.argv) > 1 and sys.argv[1] == "_worker":
         worker(*sys.argv[2:5])
         raise SystemExit(0)
