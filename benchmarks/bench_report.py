@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -31,6 +31,9 @@ import trimesh
 from dentopo import compute_batch, write_report, write_table
 from dentopo.formats import layout
 from dentopo.samples import tooth
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_batch import cpu_seconds
 
 #: Folder (group) -> how much higher its crowns' relief is.
 GROUPS = {"Alouatta": 1.25, "Ateles": 1.0, "Cebus": 0.8, "Pithecia": 0.9}
@@ -52,13 +55,6 @@ def write_collection(directory: Path, count: int, rings: int) -> list[Path]:
         trimesh.Trimesh(vertices, base.faces, process=False).export(path)
         paths.append(path)
     return paths
-
-
-def cpu_seconds() -> float:
-    """CPU time of this process and of its finished worker processes."""
-    own = resource.getrusage(resource.RUSAGE_SELF)
-    children = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def main() -> None:

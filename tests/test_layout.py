@@ -27,7 +27,7 @@ ALLOWED = {
     "formats": {"mesh", "ariadne", "topography", "figures"},
     "batch": {"mesh", "sign", "ariadne", "topography", "formats"},
     "study": {"mesh", "sign", "ariadne", "topography", "formats"},
-    "report": {"mesh", "sign", "ariadne", "topography", "figures", "formats"},
+    "report": {"mesh", "sign", "ariadne", "topography", "figures", "formats", "batch"},
     "cli": {
         "mesh",
         "sign",

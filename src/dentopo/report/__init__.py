@@ -10,8 +10,8 @@ viewer; plotly's JavaScript inlined once), ``_report`` (the entry point
 :func:`write_report`).
 
 May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
-:mod:`dentopo.topography`, :mod:`dentopo.figures`, :mod:`dentopo.formats`.
-Nothing from batch, study or cli.
+:mod:`dentopo.topography`, :mod:`dentopo.figures`, :mod:`dentopo.formats`,
+:mod:`dentopo.batch` (the report is of a batch's table).  Nothing from study or cli.
 """
 
 from ._report import ReportSummary, check_report_extras, write_report

@@ -10,7 +10,6 @@ reason instead of a field, and a worker that dies costs only the files it had.
 
 from __future__ import annotations
 
-import os
 import signal
 import warnings
 from collections.abc import Sequence
@@ -118,11 +117,3 @@ def measure_fields(tasks: Sequence[tuple[str, dict]], workers: Workers) -> list[
     return workers.map(
         measure_field, tasks, lambda call: "the worker process measuring it died (out of memory?)"
     )
-
-
-def default_jobs() -> int:
-    """CPU cores this process may use."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1

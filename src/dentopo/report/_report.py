@@ -7,10 +7,11 @@ import time
 from dataclasses import dataclass
 
 from .._optional import PICTURES, REPORT
+from ..batch import available_cores
 from ..figures import DEFAULT_PERCENTILE, color_scale
 from ..formats import atomic_write
 from ._collect import collect
-from ._fields import Field, Workers, default_jobs, measure_fields
+from ._fields import Field, Workers, measure_fields
 from ._page import PageContent, render_page
 from ._thumbnails import THUMBNAIL_SIZE, draw
 
@@ -143,7 +144,7 @@ def write_report(
         if "dne" in metrics and specimen.status == "partial" and specimen.record.get("dne") is None:
             specimen.problem = specimen.problem or "ariaDNE failed (see the error)"
     todo = [s for s in specimens if s.path is not None and s.status != "error" and not s.problem]
-    jobs = jobs or default_jobs()
+    jobs = jobs or available_cores()
     with Workers(jobs, len(todo)) as workers:
         fields = measure_fields([(s.path, s.ariadne_options()) for s in todo], workers)
         drawn: dict[int, Field] = {}
