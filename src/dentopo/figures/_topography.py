@@ -59,6 +59,8 @@ OUTLINE_RGB = (255, 40, 0)
 PLAIN_RGB = (205, 205, 205)
 
 _SLOPE_TITLE = "slope (degrees; 0 = facing up, 90 = vertical)"
+#: The slope colour bar's ticks, degrees (the PNG's and the HTML page's).
+_SLOPE_TICKS = tuple(range(0, 91, 15))
 _OPC_TITLE = "OPC aspect bins (aspect = atan2(n_y, n_x) of the face normal)"
 _FOOTPRINT_TITLE = "footprint outline (top view, x-y plane)"
 
@@ -474,7 +476,7 @@ def render_slope(
             cameras=[camera],
             bar=sequential_bar(
                 _heading(title, _SLOPE_TITLE),
-                [f"{d}\u00b0" for d in range(0, 91, 15)],
+                [f"{d}\u00b0" for d in _SLOPE_TICKS],
                 lambda t: np.round(255 * sequential_rgb(t)).astype(np.uint8),
                 note,
             ),
@@ -483,7 +485,7 @@ def render_slope(
     panel = Panel(vertices, faces, camera, cell_rgb=slope_rgb(slope), label=heading, ambient=0.6)
     legend = ColorBar(
         lambda t: sequential_rgb(t),
-        [(d / 90.0, f"{d}\u00b0") for d in range(0, 91, 15)],
+        [(d / SLOPE_LIMIT, f"{d}\u00b0") for d in _SLOPE_TICKS],
         title=_SLOPE_TITLE,
         note=note,
     )
