@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import base64
 import io
+import os
 import re
 import shutil
 
@@ -347,3 +348,19 @@ def test_the_checks_see_a_broken_thumbnail_and_a_broken_payload(collection, tmp_
     status = _status(_dom(tmp_path, broken.as_uri() + "#view=3")[0])
     assert status["thumbnails"] == "7/8"
     assert status["errors"] != ""
+
+
+def _square_or_die(value: int) -> int:
+    """Squares `value`; kills its own process for a negative one (a worker that dies)."""
+    if value < 0:
+        os._exit(3)
+    return value * value
+
+
+def test_a_worker_that_dies_costs_only_its_own_call():
+    from dentopo.report._fields import run_calls
+
+    calls = [(2,), (-1,), (3,), (4,)]
+    results = run_calls(_square_or_die, calls, 2, lambda call: f"died on {call[0]}")
+    assert results == [4, "died on -1", 9, 16]
+    assert run_calls(_square_or_die, calls[2:], 1, None) == [9, 16]  # one worker: this process

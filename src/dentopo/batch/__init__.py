@@ -12,6 +12,7 @@ May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topograph
 
 from ._inputs import MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
 from ._interrupts import Interrupted, guard_interrupts
+from ._pool import run_pool
 from ._runner import (
     Outcome,
     Settings,
@@ -50,6 +51,7 @@ __all__ = [
     "merge_records",
     "plan_batch",
     "resumable_files",
+    "run_pool",
     "run_tasks",
     "to_dataframe",
 ]

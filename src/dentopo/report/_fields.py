@@ -10,17 +10,14 @@ reason instead of a field, and a worker that dies costs only the files it had.
 
 from __future__ import annotations
 
-import signal
 import warnings
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from multiprocessing import get_context
 
 import numpy as np
 
 from ..ariadne import ariaDNE
+from ..batch import run_pool
 from ..mesh import load_mesh
 
 #: Fewer files than this are computed in this process (starting workers costs seconds).
@@ -62,58 +59,51 @@ def measure_field(path: str, options: dict) -> Field | str:
     )
 
 
-def _start_worker() -> None:
-    """One numba thread; Ctrl-C is the parent's to handle (it stops the workers)."""
+def _call(task: tuple[int, tuple], function) -> tuple[int, object]:
+    """In a worker: ``(index, function(*call))`` for ``task = (index, call)``, one numba thread."""
     import numba
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
     numba.set_num_threads(1)
+    index, call = task
+    return index, function(*call)
 
 
-class Workers:
-    """Worker processes for both steps of a report, or none; a context manager.
+def worker_count(jobs: int, files: int) -> int:
+    """Worker processes for a report of `files` files: `jobs`, or 1 (none started).
 
-    Parameters
-    ----------
-    jobs : int
-        Processes to start; with 1, or fewer than :data:`POOL_FROM` tasks,
-        none is started and everything runs in this process.
-    tasks : int
-        How many files there are.
+    Starting workers costs seconds, so fewer than :data:`POOL_FROM` files are
+    done in this process.
     """
-
-    def __init__(self, jobs: int, tasks: int):
-        self.pool = None
-        self.jobs = 1
-        if jobs > 1 and tasks >= POOL_FROM:
-            self.jobs = min(jobs, tasks)
-            self.pool = ProcessPoolExecutor(
-                self.jobs, mp_context=get_context("spawn"), initializer=_start_worker
-            )
-
-    def __enter__(self) -> Workers:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self.pool is not None:
-            self.pool.shutdown(cancel_futures=True)
-
-    def map(self, function, calls: Sequence[tuple], died) -> list:
-        """``function(*call)`` for each call, in order; ``died(call)`` where a worker died."""
-        if self.pool is None:
-            return [function(*call) for call in calls]
-        futures = [self.pool.submit(function, *call) for call in calls]
-        results = []
-        for call, future in zip(calls, futures, strict=True):
-            try:
-                results.append(future.result())
-            except BrokenProcessPool:
-                results.append(died(call))
-        return results
+    return min(jobs, files) if jobs > 1 and files >= POOL_FROM else 1
 
 
-def measure_fields(tasks: Sequence[tuple[str, dict]], workers: Workers) -> list[Field | str]:
-    """:func:`measure_field` of each ``(path, options)``, on `workers`."""
-    return workers.map(
-        measure_field, tasks, lambda call: "the worker process measuring it died (out of memory?)"
+def run_calls(function, calls: Sequence[tuple], workers: int, died) -> list:
+    """``function(*call)`` for each call, in order, on `workers` processes (1: this one).
+
+    The calls go to the batch's pool (:func:`dentopo.batch.run_pool`:
+    ``spawn``ed workers that ignore Ctrl-C and die with this process); where a
+    worker dies, its call gets ``died(call)`` and the others go on.
+    """
+    if workers <= 1 or len(calls) <= 1:
+        return [function(*call) for call in calls]
+    results: list = [None] * len(calls)
+    finished = run_pool(
+        list(enumerate(calls)),
+        _call,
+        (function,),
+        workers=min(workers, len(calls)),
+        failed=lambda task, reason, seconds: (task[0], died(task[1])),
+    )
+    for index, result in finished:
+        results[index] = result
+    return results
+
+
+def measure_fields(tasks: Sequence[tuple[str, dict]], workers: int) -> list[Field | str]:
+    """:func:`measure_field` of each ``(path, options)``, on `workers` processes."""
+    return run_calls(
+        measure_field,
+        tasks,
+        workers,
+        lambda call: "the worker process measuring it died (out of memory?)",
     )

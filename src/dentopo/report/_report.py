@@ -11,7 +11,7 @@ from ..batch import available_cores
 from ..figures import DEFAULT_PERCENTILE, color_scale
 from ..formats import atomic_write
 from ._collect import collect
-from ._fields import Field, Workers, measure_fields
+from ._fields import Field, measure_fields, run_calls, worker_count
 from ._page import PageContent, render_page
 from ._thumbnails import THUMBNAIL_SIZE, draw
 
@@ -145,28 +145,29 @@ def write_report(
             specimen.problem = specimen.problem or "ariaDNE failed (see the error)"
     todo = [s for s in specimens if s.path is not None and s.status != "error" and not s.problem]
     jobs = jobs or available_cores()
-    with Workers(jobs, len(todo)) as workers:
-        fields = measure_fields([(s.path, s.ariadne_options()) for s in todo], workers)
-        drawn: dict[int, Field] = {}
-        for specimen, result in zip(todo, fields, strict=True):
-            if isinstance(result, Field):
-                drawn[specimen.index] = result
-            else:
-                specimen.problem = result
-        if limits is not None:
-            scale = color_scale(limits=limits)
-        elif drawn:
-            scale = color_scale([f.values for f in drawn.values()], percentile=percentile)
+    workers = worker_count(jobs, len(todo))
+    fields = measure_fields([(s.path, s.ariadne_options()) for s in todo], workers)
+    drawn: dict[int, Field] = {}
+    for specimen, result in zip(todo, fields, strict=True):
+        if isinstance(result, Field):
+            drawn[specimen.index] = result
         else:
-            scale = color_scale(limits=1.0)
-        indices = list(drawn)
-        chunks = [indices[k :: workers.jobs] for k in range(workers.jobs)]
-        chunks = [chunk for chunk in chunks if chunk]
-        pictures = workers.map(
-            draw,
-            [([drawn[i] for i in chunk], scale, thumbnail_size) for chunk in chunks],
-            lambda call: draw(*call),  # a worker died: draw its share here
-        )
+            specimen.problem = result
+    if limits is not None:
+        scale = color_scale(limits=limits)
+    elif drawn:
+        scale = color_scale([f.values for f in drawn.values()], percentile=percentile)
+    else:
+        scale = color_scale(limits=1.0)
+    indices = list(drawn)
+    chunks = [indices[k::workers] for k in range(workers)]  # one plotter per worker
+    chunks = [chunk for chunk in chunks if chunk]
+    pictures = run_calls(
+        draw,
+        [([drawn[i] for i in chunk], scale, thumbnail_size) for chunk in chunks],
+        workers,
+        lambda call: draw(*call),  # a worker died: draw its share here
+    )
     thumbnails, payloads = {}, {}
     for chunk, results in zip(chunks, pictures, strict=True):
         for index, (thumbnail, payload) in zip(chunk, results, strict=True):
