@@ -16,8 +16,8 @@ import dentopo
 
 PACKAGE = Path(dentopo.__file__).parent
 
-#: Subpackage -> the dentopo subpackages it may import (top-level private modules such as
-#: ``_version`` and ``_optional`` are allowed everywhere).  Keep in step with the docstrings.
+#: Subpackage -> the dentopo subpackages it may import (the top-level private modules in
+#: ``PRIVATE`` are allowed everywhere).  Keep in step with the docstrings.
 ALLOWED = {
     "mesh": set(),
     "sign": {"mesh"},
@@ -43,6 +43,9 @@ ALLOWED = {
     "samples": set(),
 }
 SUBPACKAGES = set(ALLOWED)
+
+#: Top-level private modules every module may import; they import nothing of dentopo.
+PRIVATE = {"dentopo._version", "dentopo._optional", "dentopo._jit"}
 
 #: Public modules at the top level (``dentopo.NAME``) -> the subpackages they may import.  Each
 #: sits beside the public API, above nothing: no subpackage may import it.
@@ -134,7 +137,7 @@ def test_top_level_modules_import_only_what_their_rule_allows(name):
         other = _subpackage(target)
         if other is not None and other not in TOP_LEVEL[name]:
             wrong.add(target)
-        if other is None and target not in ("dentopo._version", "dentopo._optional"):
+        if other is None and target not in PRIVATE:
             wrong.add(target)  # the public API, or another top-level module
     assert not wrong, f"{module} imports {sorted(wrong)} against its rule"
 
@@ -146,6 +149,14 @@ def test_nothing_below_imports_a_top_level_module(module):
     targets = _imports(module, _modules()[module], lazy=True)
     wrong = {t for t in targets if len(t.split(".")) > 1 and t.split(".")[1] in TOP_LEVEL}
     assert not wrong, f"{module} imports {sorted(wrong)}: top-level modules sit above it"
+
+
+@pytest.mark.parametrize("module", sorted(PRIVATE))
+def test_private_top_level_modules_import_nothing_of_dentopo(module):
+    path = PACKAGE / f"{module.split('.')[1]}.py"
+    doc = ast.get_docstring(ast.parse(path.read_text())) or ""
+    assert "May import: nothing of dentopo" in doc
+    assert not _imports(module, path, lazy=True)
 
 
 def test_no_import_cycles():

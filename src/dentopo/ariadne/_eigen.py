@@ -15,7 +15,8 @@ two eigenvectors) go to the same eigenpair as with ``eigh``: the first one.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+
+from .._jit import njit, prange
 
 #: Jacobi sweeps at most; a 3 x 3 matrix converges in about four.
 MAX_SWEEPS = 50

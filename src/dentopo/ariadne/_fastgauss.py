@@ -67,8 +67,8 @@ from dataclasses import dataclass
 from itertools import pairwise
 
 import numpy as np
-from numba import njit
 
+from .._jit import njit
 from .._optional import FAST_METHOD
 from ._kernel import KernelMoments, euclidean_moments, kernel_radius
 from ._parameters import check_bandwidth

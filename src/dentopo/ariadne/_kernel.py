@@ -28,10 +28,10 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
-from numba import njit, prange
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from .._jit import njit, prange
 from ..mesh import spatial_order
 from ._parameters import check_bandwidth, check_cutoff
 

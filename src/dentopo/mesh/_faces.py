@@ -16,8 +16,8 @@ that arrived meanwhile would be raised and crash the caller).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .._jit import njit
 from ._topology import corners_by_vertex
 
 

@@ -37,8 +37,8 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from .._jit import njit
 from ._validate import check_finite, check_indices, index_message, plural
 
 #: PLY scalar type names: the specification's and their sized spellings (and three more

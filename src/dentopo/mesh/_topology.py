@@ -18,9 +18,10 @@ ends by compiled passes; the walk is compiled too.  About 0.1 s for 2M faces.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
+
+from .._jit import njit
 
 
 def _directed_edges(faces: np.ndarray) -> np.ndarray:

@@ -42,9 +42,9 @@ from numbers import Real
 
 import numpy as np
 import trimesh
-from numba import njit
 from scipy.spatial import cKDTree
 
+from .._jit import njit
 from ..mesh import as_arrays, outward_faces
 
 KINDS = ("mean", "gaussian")

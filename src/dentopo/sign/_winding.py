@@ -57,8 +57,8 @@ number of threads.  Everything is O((points + faces) log faces).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
 
+from .._jit import njit, prange
 from ..mesh import spatial_order
 
 #: A cluster is "far" from a query point beyond this multiple of its radius.

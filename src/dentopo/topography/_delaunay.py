@@ -22,8 +22,9 @@ opposite vertex k, -1 on the hull.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 from scipy.spatial import Delaunay
+
+from .._jit import njit
 
 #: Shewchuk's static error bounds of the orientation and in-circle determinants.
 _EPS = np.ldexp(1.0, -53)

@@ -1,0 +1,89 @@
+"""numba's ``njit`` and ``prange`` for dentopo's kernels, with Ctrl-C held while numba compiles.
+
+A kernel is compiled on its first call (on a fresh install; later calls load
+numba's cache).  A Ctrl-C that arrives while LLVM compiles is lost: Python runs
+the signal's handler in the first Python code it reaches, which is llvmlite's
+object-cache callback, and an exception raised in a ctypes callback is printed
+as "Exception ignored" and dropped; the computation then runs to its end.
+
+While a kernel compiles, :func:`njit` therefore gives SIGINT and SIGTERM a
+handler that only records them (where Python handlers are installed, in the
+main thread), and hands a recorded signal to the handler that was installed
+before as the compilation ends: Python's ``KeyboardInterrupt``, or the batch
+runner's guard.  A Ctrl-C during a compilation is thus raised when that kernel
+is compiled (a few seconds at most), not lost.
+
+The hold listens to numba's compile events (``numba.core.event``), so it covers
+every compilation in the process, a kernel's callees too.
+
+May import: nothing of dentopo (every subpackage may import it).
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+
+import numba
+from numba import prange
+from numba.core import event
+
+__all__ = ["njit", "prange"]
+
+#: The signals held while numba compiles.
+HELD = (signal.SIGINT, signal.SIGTERM)
+
+
+class _HoldSignals(event.Listener):
+    """Records `HELD` signals from the start of a compilation to its end, then hands them on."""
+
+    def __init__(self):
+        self.depth = 0  # nested compilations (a kernel's callees) in the main thread
+        self.previous: dict[int, object] = {}
+        self.caught: list[int] = []
+
+    def _record(self, signum, frame) -> None:
+        if signum not in self.caught:
+            self.caught.append(signum)
+
+    def on_start(self, event_) -> None:
+        if threading.current_thread() is not threading.main_thread():
+            return
+        self.depth += 1
+        if self.depth > 1:
+            return
+        for signum in HELD:
+            handler = signal.getsignal(signum)
+            if callable(handler):  # not SIG_IGN, SIG_DFL or a handler set outside Python
+                self.previous[signum] = handler
+                signal.signal(signum, self._record)
+
+    def on_end(self, event_) -> None:
+        if threading.current_thread() is not threading.main_thread() or self.depth == 0:
+            return
+        self.depth -= 1
+        if self.depth:
+            return
+        previous, self.previous = self.previous, {}
+        caught, self.caught = self.caught, []
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        for signum in caught:
+            previous[signum](signum, None)  # e.g. raises KeyboardInterrupt
+
+
+_HOLD = _HoldSignals()
+_registered = False
+
+
+def _register() -> None:
+    global _registered
+    if not _registered:
+        event.register("numba:compile", _HOLD)
+        _registered = True
+
+
+def njit(*args, **kwargs):
+    """``numba.njit``, with Ctrl-C and SIGTERM held while a kernel compiles (see the module)."""
+    _register()
+    return numba.njit(*args, **kwargs)

@@ -1,0 +1,109 @@
+"""Ctrl-C while numba compiles a kernel: held until the compilation ends, then raised.
+
+Python runs a signal's handler in the first Python code it reaches.  While
+LLVM compiles, that is llvmlite's object-cache callback, a ctypes callback,
+where an exception is printed as "Exception ignored" and dropped: a Ctrl-C
+during a kernel's first compilation was lost and the computation ran on.  The
+test below makes that moment deterministic: a compile listener calls a ctypes
+callback that sends SIGINT, as LLVM's callback does when a Ctrl-C arrives
+while it compiles.  With numba's own ``njit`` the interrupt is lost and the
+call returns; with dentopo's, it is raised once the kernel is compiled.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import signal
+import sys
+import threading
+
+import numba
+import pytest
+from numba.core import event
+
+from dentopo import _jit
+
+pytestmark = pytest.mark.skipif(
+    threading.current_thread() is not threading.main_thread(), reason="signals need the main thread"
+)
+
+
+class _InterruptInACallback(event.Listener):
+    """Sends SIGINT from inside a ctypes callback when a compilation starts."""
+
+    def __init__(self):
+        self.callback = ctypes.CFUNCTYPE(None)(self._interrupt)
+        self.sent = 0
+
+    def _interrupt(self):
+        self.sent += 1
+        os.kill(os.getpid(), signal.SIGINT)
+        sum(range(1000))  # Python code after the signal: where its handler runs
+
+    def on_start(self, event_):
+        if not self.sent:
+            self.callback()
+
+    def on_end(self, event_):
+        pass
+
+
+def _compile_with_an_interrupt(njit, function, *args):
+    """Call a fresh kernel of `function` while a Ctrl-C is sent inside a callback of its compile."""
+    kernel = njit(function)
+    listener = _InterruptInACallback()
+    with event.install_listener("numba:compile", listener):
+        result = kernel(*args)
+    return kernel, listener, result
+
+
+def _add_one(x):
+    return x + 1
+
+
+def _twice(x):
+    return 2 * x
+
+
+def test_a_ctrl_c_during_a_compilation_is_raised_when_it_ends():
+    before = signal.getsignal(signal.SIGINT)
+    kernel = _jit.njit(_add_one)
+    listener = _InterruptInACallback()
+    with event.install_listener("numba:compile", listener), pytest.raises(KeyboardInterrupt):
+        kernel(1)
+    assert listener.sent == 1
+    assert len(kernel.signatures) == 1  # compiled before the interrupt was raised
+    assert kernel(1) == 2  # and usable after it
+    assert signal.getsignal(signal.SIGINT) is before  # the handler is back
+
+
+def test_a_callee_compiled_inside_a_kernel_holds_until_the_outer_compilation_ends():
+    inner = _jit.njit(_twice)
+
+    def outer(x):
+        return inner(x) + 1
+
+    kernel = _jit.njit(outer)
+    listener = _InterruptInACallback()
+    with event.install_listener("numba:compile", listener), pytest.raises(KeyboardInterrupt):
+        kernel(3)
+    assert len(kernel.signatures) == 1 and len(inner.signatures) == 1
+    assert _jit._HOLD.depth == 0 and not _jit._HOLD.caught
+
+
+def test_the_control_without_the_hold_the_ctrl_c_is_lost(monkeypatch):
+    """The failure the hold prevents: without it the call returns as if no Ctrl-C came."""
+    ignored = []
+    monkeypatch.setattr(sys, "unraisablehook", ignored.append)  # "Exception ignored ..."
+    kernel = numba.njit(_add_one)
+    _jit._register()
+    event.unregister("numba:compile", _jit._HOLD)  # the hold listens to every compilation
+    try:
+        listener = _InterruptInACallback()
+        with event.install_listener("numba:compile", listener):
+            assert kernel(1) == 2
+    finally:
+        event.register("numba:compile", _jit._HOLD)
+    assert listener.sent == 1
+    assert [type(u.exc_value) for u in ignored] == [KeyboardInterrupt]
