@@ -191,7 +191,7 @@ vertices, faces = close_holes(prepared.points, np.asarray(prepared.mesh.faces))
 rng = np.random.default_rng(0)
 points = np.repeat(prepared.points, 24, axis=0)
 points += rng.normal(scale=1e-3, size=points.shape)  # near the surface: slow queries
-inside(vertices[:40], faces[:10], points[:10])  # loads the compiled code
+inside(vertices, faces, points[:10])  # loads the compiled code (the long triangles' too)
 print("start", file=sys.stderr, flush=True)
 try:
     inside(vertices, faces, points)
