@@ -6,8 +6,9 @@ where an exception is printed as "Exception ignored" and dropped: a Ctrl-C
 during a kernel's first compilation was lost and the computation ran on.  The
 test below makes that moment deterministic: a compile listener calls a ctypes
 callback that sends SIGINT, as LLVM's callback does when a Ctrl-C arrives
-while it compiles.  With numba's own ``njit`` the interrupt is lost and the
-call returns; with dentopo's, it is raised once the kernel is compiled.
+while it compiles.  Without the hold that importing ``dentopo._jit``
+registers, the interrupt is lost and the call returns; with it, it is raised
+once the kernel is compiled.
 """
 
 from __future__ import annotations
@@ -97,7 +98,6 @@ def test_the_control_without_the_hold_the_ctrl_c_is_lost(monkeypatch):
     ignored = []
     monkeypatch.setattr(sys, "unraisablehook", ignored.append)  # "Exception ignored ..."
     kernel = numba.njit(_add_one)
-    _jit._register()
     event.unregister("numba:compile", _jit._HOLD)  # the hold listens to every compilation
     try:
         listener = _InterruptInACallback()

@@ -6,7 +6,7 @@ the signal's handler in the first Python code it reaches, which is llvmlite's
 object-cache callback, and an exception raised in a ctypes callback is printed
 as "Exception ignored" and dropped; the computation then runs to its end.
 
-While a kernel compiles, :func:`njit` therefore gives SIGINT and SIGTERM a
+While a kernel compiles, this module therefore gives SIGINT and SIGTERM a
 handler that only records them (where Python handlers are installed, in the
 main thread), and hands a recorded signal to the handler that was installed
 before as the compilation ends: Python's ``KeyboardInterrupt``, or the batch
@@ -24,8 +24,7 @@ from __future__ import annotations
 import signal
 import threading
 
-import numba
-from numba import prange
+from numba import njit, prange
 from numba.core import event
 
 __all__ = ["njit", "prange"]
@@ -72,18 +71,6 @@ class _HoldSignals(event.Listener):
             previous[signum](signum, None)  # e.g. raises KeyboardInterrupt
 
 
+#: Registered as this module is imported: every kernel module takes ``njit`` from here.
 _HOLD = _HoldSignals()
-_registered = False
-
-
-def _register() -> None:
-    global _registered
-    if not _registered:
-        event.register("numba:compile", _HOLD)
-        _registered = True
-
-
-def njit(*args, **kwargs):
-    """``numba.njit``, with Ctrl-C and SIGTERM held while a kernel compiles (see the module)."""
-    _register()
-    return numba.njit(*args, **kwargs)
+event.register("numba:compile", _HOLD)

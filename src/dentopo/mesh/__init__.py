@@ -9,8 +9,9 @@ unit-area working copy (``_prepare``), per-face measures and vertex sums in
 compiled passes (``_faces``), boundaries, consistent and outward orientation and
 the capping of holes (``_topology``), and a spatial order of points (``_spatial``).
 
-May import: numpy, scipy, numba, trimesh.  Nothing else of dentopo: it is the
-bottom layer.
+May import: numpy, scipy, numba, trimesh, and dentopo's private ``_jit`` (numba's
+``njit`` with Ctrl-C held while a kernel compiles).  Nothing else of dentopo: it
+is the bottom layer.
 """
 
 from ._ply import read_ply
