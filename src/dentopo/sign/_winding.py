@@ -90,7 +90,12 @@ _FOUR_PI = 4.0 * np.pi
 
 
 @njit(cache=True, inline="always")
-def _solid_angle(x0, y0, z0, x1, y1, z1, x2, y2, z2):
+def _turn(x0, y0, z0, x1, y1, z1, x2, y2, z2):
+    """Half the solid angle of a triangle as a complex number: its argument.
+
+    ``(re, im)`` with ``atan2(im, re)`` the term of ``_solid_angle`` (before its
+    factor 2); ``(0, 0)`` where that term is ``atan2(0, 0) = 0``.
+    """
     l0 = np.sqrt(x0 * x0 + y0 * y0 + z0 * z0)
     l1 = np.sqrt(x1 * x1 + y1 * y1 + z1 * z1)
     l2 = np.sqrt(x2 * x2 + y2 * y2 + z2 * z2)
@@ -98,7 +103,14 @@ def _solid_angle(x0, y0, z0, x1, y1, z1, x2, y2, z2):
     d01 = x0 * x1 + y0 * y1 + z0 * z1
     d12 = x1 * x2 + y1 * y2 + z1 * z2
     d20 = x2 * x0 + y2 * y0 + z2 * z0
-    return 2.0 * np.arctan2(det, l0 * l1 * l2 + d01 * l2 + d12 * l0 + d20 * l1)
+    return l0 * l1 * l2 + d01 * l2 + d12 * l0 + d20 * l1, det
+
+
+@njit(cache=True, inline="always")
+def _solid_angle(x0, y0, z0, x1, y1, z1, x2, y2, z2):
+    """The solid angle of a triangle seen from the origin (Van Oosterom and Strackee)."""
+    re, im = _turn(x0, y0, z0, x1, y1, z1, x2, y2, z2)
+    return 2.0 * np.arctan2(im, re)
 
 
 @njit(cache=True)
@@ -117,23 +129,6 @@ def _triangle_sum(tri, lo, hi, q):
             tri[t, 2, 2] - q[2],
         )
     return total
-
-
-@njit(cache=True, inline="always")
-def _turn(x0, y0, z0, x1, y1, z1, x2, y2, z2):
-    """Half the solid angle of a triangle as a complex number: its argument.
-
-    ``(re, im)`` with ``atan2(im, re)`` the term of ``_solid_angle`` (before its
-    factor 2); ``(0, 0)`` where that term is ``atan2(0, 0) = 0``.
-    """
-    l0 = np.sqrt(x0 * x0 + y0 * y0 + z0 * z0)
-    l1 = np.sqrt(x1 * x1 + y1 * y1 + z1 * z1)
-    l2 = np.sqrt(x2 * x2 + y2 * y2 + z2 * z2)
-    det = x0 * (y1 * z2 - z1 * y2) - y0 * (x1 * z2 - z1 * x2) + z0 * (x1 * y2 - y1 * x2)
-    d01 = x0 * x1 + y0 * y1 + z0 * z1
-    d12 = x1 * x2 + y1 * y2 + z1 * z2
-    d20 = x2 * x0 + y2 * y0 + z2 * z0
-    return l0 * l1 * l2 + d01 * l2 + d12 * l0 + d20 * l1, det
 
 
 @njit(cache=True, inline="always")
