@@ -21,6 +21,23 @@ from .._jit import njit
 from ._topology import corners_by_vertex
 
 
+@njit(cache=True, inline="always")
+def corner_cross(vertices, i, j, k):  # pragma: no cover
+    """``(v_j - v_i) x (v_k - v_i)`` as three numbers, in the precision of `vertices`.
+
+    As ``np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])`` computes it
+    for the face ``(i, j, k)``: the same operations in the same order (the
+    kernels that inline it are compiled without ``fastmath``).
+    """
+    ax = vertices[j, 0] - vertices[i, 0]
+    ay = vertices[j, 1] - vertices[i, 1]
+    az = vertices[j, 2] - vertices[i, 2]
+    bx = vertices[k, 0] - vertices[i, 0]
+    by = vertices[k, 1] - vertices[i, 1]
+    bz = vertices[k, 2] - vertices[i, 2]
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
 @njit(cache=True)
 def _high_faces(vertices, faces, height, keep):  # pragma: no cover
     for f in range(faces.shape[0]):
@@ -135,15 +152,7 @@ def first_faces(faces: np.ndarray, keep: np.ndarray, n_vertices: int) -> np.ndar
 def _vertex_areas(vertices, faces, area):  # pragma: no cover
     for f in range(faces.shape[0]):
         i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
-        ax = vertices[j, 0] - vertices[i, 0]
-        ay = vertices[j, 1] - vertices[i, 1]
-        az = vertices[j, 2] - vertices[i, 2]
-        bx = vertices[k, 0] - vertices[i, 0]
-        by = vertices[k, 1] - vertices[i, 1]
-        bz = vertices[k, 2] - vertices[i, 2]
-        cx = ay * bz - az * by
-        cy = az * bx - ax * bz
-        cz = ax * by - ay * bx
+        cx, cy, cz = corner_cross(vertices, i, j, k)
         third = (0.5 * np.sqrt(cx * cx + cy * cy + cz * cz)) / 3.0
         area[i] += third
         area[j] += third
@@ -171,15 +180,7 @@ def _vertex_normals(vertices, faces, normal):  # pragma: no cover
     for c in range(3):
         for f in range(faces.shape[0]):
             i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
-            ax = vertices[j, 0] - vertices[i, 0]
-            ay = vertices[j, 1] - vertices[i, 1]
-            az = vertices[j, 2] - vertices[i, 2]
-            bx = vertices[k, 0] - vertices[i, 0]
-            by = vertices[k, 1] - vertices[i, 1]
-            bz = vertices[k, 2] - vertices[i, 2]
-            cx = ay * bz - az * by
-            cy = az * bx - ax * bz
-            cz = ax * by - ay * bx
+            cx, cy, cz = corner_cross(vertices, i, j, k)
             length = np.sqrt(cx * cx + cy * cy + cz * cz)
             if length > 0:
                 v = faces[f, c]

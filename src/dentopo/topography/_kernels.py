@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from .._jit import njit
+from ..mesh._faces import corner_cross
 
 
 @njit(cache=True)
@@ -29,15 +30,7 @@ def face_cross_norm(vertices, faces, cross, norm):
     """
     for f in range(faces.shape[0]):
         i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
-        ax = vertices[j, 0] - vertices[i, 0]
-        ay = vertices[j, 1] - vertices[i, 1]
-        az = vertices[j, 2] - vertices[i, 2]
-        bx = vertices[k, 0] - vertices[i, 0]
-        by = vertices[k, 1] - vertices[i, 1]
-        bz = vertices[k, 2] - vertices[i, 2]
-        cx = ay * bz - az * by
-        cy = az * bx - ax * bz
-        cz = ax * by - ay * bx
+        cx, cy, cz = corner_cross(vertices, i, j, k)
         cross[f, 0] = cx
         cross[f, 1] = cy
         cross[f, 2] = cz
@@ -55,15 +48,7 @@ def single_precision_areas(vertices32, faces, area):
     """
     for f in range(faces.shape[0]):
         i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
-        ax = vertices32[j, 0] - vertices32[i, 0]
-        ay = vertices32[j, 1] - vertices32[i, 1]
-        az = vertices32[j, 2] - vertices32[i, 2]
-        bx = vertices32[k, 0] - vertices32[i, 0]
-        by = vertices32[k, 1] - vertices32[i, 1]
-        bz = vertices32[k, 2] - vertices32[i, 2]
-        cx = ay * bz - az * by
-        cy = az * bx - ax * bz
-        cz = ax * by - ay * bx
+        cx, cy, cz = corner_cross(vertices32, i, j, k)
         root = np.sqrt(cx * cx + cy * cy + cz * cz)
         area[f] = np.float64(root) / 2.0
 
@@ -231,15 +216,7 @@ def unit_vertex_sums(vertices, faces, unit_faces, out):
     normal = np.empty((m, 3))
     for f in range(m):
         i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
-        ax = vertices[j, 0] - vertices[i, 0]
-        ay = vertices[j, 1] - vertices[i, 1]
-        az = vertices[j, 2] - vertices[i, 2]
-        bx = vertices[k, 0] - vertices[i, 0]
-        by = vertices[k, 1] - vertices[i, 1]
-        bz = vertices[k, 2] - vertices[i, 2]
-        cx = ay * bz - az * by
-        cy = az * bx - ax * bz
-        cz = ax * by - ay * bx
+        cx, cy, cz = corner_cross(vertices, i, j, k)
         if unit_faces:
             length = math.sqrt(cx * cx + cy * cy + cz * cz)
             if length > 0:
