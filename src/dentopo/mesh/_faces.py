@@ -38,6 +38,22 @@ def corner_cross(vertices, i, j, k):  # pragma: no cover
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
+@njit(cache=True, inline="always")
+def normalise_rows(rows):  # pragma: no cover
+    """Each row of the (n, 3) `rows` divided by its length, in place; a zero row stays zero."""
+    for v in range(rows.shape[0]):
+        x, y, z = rows[v, 0], rows[v, 1], rows[v, 2]
+        length = np.sqrt(x * x + y * y + z * z)
+        if length > 0:
+            rows[v, 0] = x / length
+            rows[v, 1] = y / length
+            rows[v, 2] = z / length
+        else:
+            rows[v, 0] = 0.0
+            rows[v, 1] = 0.0
+            rows[v, 2] = 0.0
+
+
 @njit(cache=True)
 def _high_faces(vertices, faces, height, keep):  # pragma: no cover
     for f in range(faces.shape[0]):
@@ -187,17 +203,7 @@ def _vertex_normals(vertices, faces, normal):  # pragma: no cover
                 normal[v, 0] += cx / length
                 normal[v, 1] += cy / length
                 normal[v, 2] += cz / length
-    for v in range(normal.shape[0]):
-        x, y, z = normal[v, 0], normal[v, 1], normal[v, 2]
-        length = np.sqrt(x * x + y * y + z * z)
-        if length > 0:
-            normal[v, 0] = x / length
-            normal[v, 1] = y / length
-            normal[v, 2] = z / length
-        else:
-            normal[v, 0] = 0.0
-            normal[v, 1] = 0.0
-            normal[v, 2] = 0.0
+    normalise_rows(normal)
 
 
 def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

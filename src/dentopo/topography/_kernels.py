@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from .._jit import njit
-from ..mesh._faces import corner_cross
+from ..mesh._faces import corner_cross, normalise_rows
 
 
 @njit(cache=True)
@@ -212,7 +212,6 @@ def unit_vertex_sums(vertices, faces, unit_faces, out):
     ``faces[:, 1]``, then ``faces[:, 2]`` and a guarded division by the norm.
     """
     m = faces.shape[0]
-    n = vertices.shape[0]
     normal = np.empty((m, 3))
     for f in range(m):
         i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
@@ -233,17 +232,7 @@ def unit_vertex_sums(vertices, faces, unit_faces, out):
             out[v, 0] += normal[f, 0]
             out[v, 1] += normal[f, 1]
             out[v, 2] += normal[f, 2]
-    for v in range(n):
-        x, y, z = out[v, 0], out[v, 1], out[v, 2]
-        length = math.sqrt(x * x + y * y + z * z)
-        if length > 0:
-            out[v, 0] = x / length
-            out[v, 1] = y / length
-            out[v, 2] = z / length
-        else:
-            out[v, 0] = 0.0
-            out[v, 1] = 0.0
-            out[v, 2] = 0.0
+    normalise_rows(out)
 
 
 @njit(cache=True)
