@@ -25,7 +25,8 @@ EXACT = ("--method", "exact")  # the compiled kernel, whatever the number of ver
 
 @pytest.fixture(scope="module")
 def meshes(tmp_path_factory):
-    """Small meshes (a, c), one whose kernel runs for seconds (b), and a larger one (big)."""
+    """Small meshes (a, c), a medium one (b: 0.9 s of exact kernel on two cores), and one whose
+    kernel runs for seconds (big: about 5 s)."""
     folder = tmp_path_factory.mktemp("meshes")
     write_tooth(folder / "a.ply", 20)
     write_tooth(folder / "b.ply", 100)
@@ -54,14 +55,16 @@ def assert_no_leftovers(out):
 
 def test_ctrl_c_during_the_kernel_stops_cleanly_and_keeps_the_rows_done(meshes, tmp_path):
     out = tmp_path / "out.csv"
-    files = [str(meshes / n) for n in ("a.ply", "b.ply", "c.ply")]
+    files = [str(meshes / n) for n in ("a.ply", "big.ply", "c.ply")]
     run = start(*files, *EXACT, "-o", str(out), env=environment(DENTOPO_TEST_PHASES="1"))
-    run.wait_for(r"b\.ply: kernel")
-    time.sleep(0.5)  # well inside the compiled loop (about 3 s)
+    run.wait_for(r"big\.ply: kernel")
+    time.sleep(
+        0.5
+    )  # well inside the compiled loop (about 5 s on two cores; b.ply's 0.9 s was close)
     run.send(signal.SIGINT)
     ran = run.finish()
     assert_clean_stop(ran, "interrupted: 1 of 3 files done")
-    assert "b.ply: bending" not in ran.stderr  # stopped as the kernel returned
+    assert "big.ply: bending" not in ran.stderr  # stopped as the kernel returned
     table = rows(out)
     assert list(table) == ["a.ply"] and table["a.ply"]["status"] == "ok"
     assert_no_leftovers(out)
@@ -144,7 +147,7 @@ except KeyboardInterrupt:
 
 
 def test_compute_batch_raises_keyboard_interrupt_not_a_crash(meshes):
-    ran = python(LIBRARY.format(path=str(meshes / "b.ply")))
+    ran = python(LIBRARY.format(path=str(meshes / "big.ply")))  # seconds of kernel
     assert ran.returncode == 0, ran.describe()
     assert ran.stdout.strip() == "KeyboardInterrupt", ran.describe()
 

@@ -123,8 +123,8 @@ def test_an_output_directory_without_write_permission_is_refused_before_computin
 
 def test_two_runs_on_one_table_take_turns_and_keep_every_row(tmp_path):
     first_files = [write_tooth(tmp_path / n, 20) for n in ("a1.ply", "a2.ply")]
-    # about 5 s of exact kernel: the second run must start and find the lock before it ends
-    # (at 2 s, a second test suite on the same two cores once made it start too late)
+    # about 5 s of exact ariaDNE: the second run must start and find the lock before it ends
+    # (at rings=100, 0.9 s, it once started too late while two suites shared two cores)
     first_files.append(write_tooth(tmp_path / "a3.ply", 150))
     second_files = [write_tooth(tmp_path / n, 20) for n in ("b1.ply", "b2.ply")]
     out = str(tmp_path / "out.csv")
