@@ -19,12 +19,17 @@ from ..formats import METRIC_KEYS, SETTING_KEYS
 from ..mesh import load_mesh
 from ..topography import (
     CLASSIC_KEYS,
+    DOOLKIT_BASE_KEYS,
+    DOOLKIT_METRICS,
     ORIENTED,
     check_alpha,
+    check_arc_options,
+    check_classic_options,
     check_find_alpha,
     check_finite,
     check_int,
     check_metrics,
+    check_min_area,
     check_orient,
     classic_dne,
     opc,
@@ -53,6 +58,20 @@ class TopographyOptions:
         OPCR's rotation step, degrees.
     min_faces : int
         OPC's smallest counted patch, in faces.
+    min_area : float
+        OPC's smallest counted patch as a fraction of the surface area
+        (molaR's ``minimum_area``; 0: count by `min_faces`).
+    dne_outliers : float
+        Classic DNE's outlier percentage (molaR's ``outliers``).
+    dne_boundary : str
+        Classic DNE's boundary rule (molaR's ``BoundaryDiscard``: ``"vertex"``,
+        ``"leg"`` or ``"none"``).
+    dne_kappa : float
+        Classic DNE's convex/concave threshold (molaR's ``kappa``).
+    arc_boundary : str
+        ARC's boundary rule (``"vertex"``, ``"leg"`` or ``"none"``).
+    arc_range : (float, float)
+        ARC's quantiles beyond which faces are zeroed (molaR's ``Range``).
     orient : str
         ``"as-is"`` (molaR's behaviour) or ``"auto"`` (a crown pointing to -z
         is turned before the metrics that assume +z).
@@ -63,6 +82,12 @@ class TopographyOptions:
     opcr_steps: int = 8
     opcr_step: float = 5.625
     min_faces: int = 3
+    min_area: float = 0.0
+    dne_outliers: float = 0.1
+    dne_boundary: str = "vertex"
+    dne_kappa: float = 0.0
+    arc_boundary: str = "vertex"
+    arc_range: tuple[float, float] = (0.01, 0.99)
     orient: str = "as-is"
 
     def __post_init__(self):
@@ -72,6 +97,16 @@ class TopographyOptions:
         object.__setattr__(self, "opcr_steps", check_int("opcr_steps", self.opcr_steps, low=1))
         object.__setattr__(self, "opcr_step", check_finite("opcr_step", self.opcr_step))
         object.__setattr__(self, "min_faces", check_int("min_faces", self.min_faces, low=0))
+        object.__setattr__(self, "min_area", check_min_area(self.min_area))
+        outliers, boundary, kappa = check_classic_options(
+            self.dne_outliers, self.dne_boundary, self.dne_kappa
+        )
+        object.__setattr__(self, "dne_outliers", outliers)
+        object.__setattr__(self, "dne_boundary", boundary)
+        object.__setattr__(self, "dne_kappa", kappa)
+        boundary, quantiles = check_arc_options(self.arc_boundary, self.arc_range)
+        object.__setattr__(self, "arc_boundary", boundary)
+        object.__setattr__(self, "arc_range", quantiles)
         object.__setattr__(self, "orient", check_orient(self.orient))
 
     def rotations(self) -> tuple[float, ...]:
@@ -86,6 +121,13 @@ class TopographyOptions:
             "opcr_steps": self.opcr_steps,
             "opcr_step": self.opcr_step,
             "min_faces": self.min_faces,
+            "min_area": self.min_area,
+            "dne_outliers": self.dne_outliers,
+            "dne_boundary": self.dne_boundary,
+            "dne_kappa": self.dne_kappa,
+            "arc_boundary": self.arc_boundary,
+            "arc_range_low": self.arc_range[0],
+            "arc_range_high": self.arc_range[1],
         }
         record = {}
         for metric in metrics:
@@ -158,21 +200,48 @@ def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOption
         return ariaDNE(mesh, progress=progress, **ariadne_options)
     if isinstance(mesh, BaseException):  # every topography metric fails as it would alone
         raise mesh
-    if metric == "classic":
-        return classic_dne(mesh)
-    if metric == "rfi":
-        return rfi(mesh, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient)
-    if metric == "opcr":
-        return opcr(
-            mesh,
-            steps=options.opcr_steps,
-            step=options.opcr_step,
-            min_faces=options.min_faces,
-            orient=options.orient,
-        )
-    if metric == "opc":
-        return opc(mesh, min_faces=options.min_faces, orient=options.orient)
-    return slope(mesh, orient=options.orient)
+    return _TOPOGRAPHY[metric](mesh, options)
+
+
+def _opcr(surface, options: TopographyOptions):
+    return opcr(
+        surface,
+        steps=options.opcr_steps,
+        step=options.opcr_step,
+        min_faces=options.min_faces,
+        min_area=options.min_area,
+        orient=options.orient,
+    )
+
+
+#: ``compute(surface, options)`` of each topography metric.
+_TOPOGRAPHY = {
+    "classic": lambda surface, options: classic_dne(
+        surface,
+        outliers=options.dne_outliers,
+        boundary=options.dne_boundary,
+        kappa=options.dne_kappa,
+    ),
+    "rfi": lambda surface, options: rfi(
+        surface, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient
+    ),
+    "opcr": _opcr,
+    "opc": lambda surface, options: opc(
+        surface, min_faces=options.min_faces, min_area=options.min_area, orient=options.orient
+    ),
+    "slope": lambda surface, options: slope(surface, orient=options.orient),
+}
+
+
+def _doolkit_base(surface) -> dict:
+    """doolkit's first columns: the counts and 3D area of the mesh its metrics measured."""
+    if isinstance(surface, BaseException):
+        return dict.fromkeys(DOOLKIT_BASE_KEYS)
+    return {
+        "n_vertices": len(surface.vertices),
+        "n_faces": len(surface.faces),
+        "area3d": float(surface.single_precision_areas().sum()),
+    }
 
 
 def measure_mesh(
@@ -213,6 +282,8 @@ def measure_mesh(
     results: dict = {}
     errors: dict = {}
     for metric in metrics:
+        if metric in DOOLKIT_METRICS and "n_vertices" not in record:
+            record.update(_doolkit_base(surface))
         keys = METRIC_KEYS[metric]
         if metric != "ariadne" and progress is not None:
             progress(metric)

@@ -18,33 +18,59 @@ study or cli.
 
 from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
 from ._metrics import (
+    ALIASES,
     ALL,
     BIN_KEYS,
     CLASSIC_KEYS,
+    DOOLKIT_BASE_KEYS,
+    DOOLKIT_BIN_KEYS,
+    DOOLKIT_METRICS,
+    DOOLKIT_ROTATION_KEYS,
+    GROUPS,
     METRICS,
+    MOLAR_METRICS,
     ORIENTED,
     check_metrics,
+    metric_names,
     rotation_key,
     rotations,
 )
 from ._opc import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
 from ._orientation import ORIENT_MODES, Orientation, check_orient, find_orientation, orient_vertices
-from ._parameters import check_alpha, check_find_alpha, check_finite, check_int
+from ._parameters import (
+    BOUNDARY_RULES,
+    check_alpha,
+    check_arc_options,
+    check_choice,
+    check_classic_options,
+    check_find_alpha,
+    check_finite,
+    check_int,
+    check_min_area,
+)
 from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
 from ._surface import Surface, molar_face_areas, molar_scale, prepare_surface
 
 __all__ = [
+    "ALIASES",
     "ALL",
     "BIN_KEYS",
     "CLASSIC_FIELDS",
     "CLASSIC_KEYS",
+    "DOOLKIT_BASE_KEYS",
+    "DOOLKIT_BIN_KEYS",
+    "DOOLKIT_METRICS",
+    "DOOLKIT_ROTATION_KEYS",
+    "GROUPS",
     "METRICS",
+    "MOLAR_METRICS",
     "OPC_FIELDS",
     "ORIENTED",
     "ORIENT_MODES",
     "RFI_FIELDS",
     "SLOPE_FIELDS",
+    "BOUNDARY_RULES",
     "AlphaAdjustmentError",
     "ClassicDNEResult",
     "OPCRResult",
@@ -54,13 +80,18 @@ __all__ = [
     "SlopeResult",
     "Surface",
     "check_alpha",
+    "check_arc_options",
+    "check_choice",
+    "check_classic_options",
     "check_find_alpha",
     "check_finite",
     "check_int",
+    "check_min_area",
     "check_metrics",
     "check_orient",
     "classic_dne",
     "find_orientation",
+    "metric_names",
     "molar_face_areas",
     "molar_scale",
     "opc",
