@@ -10,13 +10,18 @@ orientation check of the metrics that assume the crown points to +z
 ``_metrics`` names them all, ariaDNE included, for a batch.  Their per-face
 and per-edge passes are compiled (``_kernels``), and RFI's Delaunay
 triangulation is a compiled, certified sweep with qhull as the fallback
-(``_delaunay``).
+(``_delaunay``).  The curvature-based metrics of molaR and doolkit (ARC,
+doolkit's DNE and angularity: ``_arc``, ``_dne_doolkit``, ``_angularity``)
+share a float32 emulation of the VCG library's geometry (``_vcg``).
 
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
 """
 
+from ._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
+from ._arc import ARC_FIELDS, DOOLKIT_ARC_FIELDS, ARCResult, DoolkitARCResult, arc, doolkit_arc
 from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
+from ._dne_doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
 from ._metrics import (
     ALIASES,
     ALL,
@@ -55,11 +60,16 @@ from ._surface import Surface, molar_face_areas, molar_scale, prepare_surface
 __all__ = [
     "ALIASES",
     "ALL",
+    "ANGULARITY_FIELDS",
+    "ARC_FIELDS",
     "BIN_KEYS",
+    "BOUNDARY_RULES",
     "CLASSIC_FIELDS",
     "CLASSIC_KEYS",
+    "DOOLKIT_ARC_FIELDS",
     "DOOLKIT_BASE_KEYS",
     "DOOLKIT_BIN_KEYS",
+    "DOOLKIT_DNE_FIELDS",
     "DOOLKIT_METRICS",
     "DOOLKIT_ROTATION_KEYS",
     "GROUPS",
@@ -70,15 +80,20 @@ __all__ = [
     "ORIENT_MODES",
     "RFI_FIELDS",
     "SLOPE_FIELDS",
-    "BOUNDARY_RULES",
+    "ARCResult",
     "AlphaAdjustmentError",
+    "AngularityResult",
     "ClassicDNEResult",
+    "DoolkitARCResult",
+    "DoolkitDNEResult",
     "OPCRResult",
     "OPCResult",
     "Orientation",
     "RFIResult",
     "SlopeResult",
     "Surface",
+    "angularity",
+    "arc",
     "check_alpha",
     "check_arc_options",
     "check_choice",
@@ -86,10 +101,12 @@ __all__ = [
     "check_find_alpha",
     "check_finite",
     "check_int",
-    "check_min_area",
     "check_metrics",
+    "check_min_area",
     "check_orient",
     "classic_dne",
+    "doolkit_arc",
+    "doolkit_dne",
     "find_orientation",
     "metric_names",
     "molar_face_areas",
