@@ -22,6 +22,8 @@ from ..topography import (
     DOOLKIT_BASE_KEYS,
     DOOLKIT_METRICS,
     ORIENTED,
+    angularity,
+    arc,
     check_alpha,
     check_arc_options,
     check_classic_options,
@@ -32,6 +34,8 @@ from ..topography import (
     check_min_area,
     check_orient,
     classic_dne,
+    doolkit_arc,
+    doolkit_dne,
     opc,
     opcr,
     prepare_surface,
@@ -230,6 +234,12 @@ _TOPOGRAPHY = {
         surface, min_faces=options.min_faces, min_area=options.min_area, orient=options.orient
     ),
     "slope": lambda surface, options: slope(surface, orient=options.orient),
+    "arc": lambda surface, options: arc(
+        surface, boundary=options.arc_boundary, range=options.arc_range
+    ),
+    "angularity": lambda surface, options: angularity(surface),
+    "doolkit_arc": lambda surface, options: doolkit_arc(surface),
+    "doolkit_dne": lambda surface, options: doolkit_dne(surface),
 }
 
 
