@@ -16,7 +16,17 @@ May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
 """
 
+from ._angles import (
+    DOOLKIT_SLOPE_FIELDS,
+    INCLINATION_FIELDS,
+    DoolkitSlopeResult,
+    InclinationResult,
+    doolkit_slope,
+    face_bearing,
+    inclination,
+)
 from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
+from ._footprint import FootprintResult, footprint_area
 from ._metrics import (
     ALL,
     BIN_KEYS,
@@ -28,8 +38,26 @@ from ._metrics import (
     rotations,
 )
 from ._opc import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
+from ._opc_doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
 from ._orientation import ORIENT_MODES, Orientation, check_orient, find_orientation, orient_vertices
 from ._parameters import check_alpha, check_find_alpha, check_finite, check_int
+from ._relief import (
+    HYPSODONTY_FIELDS,
+    RELIEF_INDEX_FIELDS,
+    SHAPE_INDEX_FIELDS,
+    ElevationResult,
+    HypsodontyResult,
+    ReliefIndexResult,
+    ReliefRateResult,
+    ShapeIndexResult,
+    elevation,
+    hypsodonty,
+    r_round,
+    relief_index,
+    relief_rate,
+    relief_rate_below_median,
+    shape_index,
+)
 from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
 from ._surface import Surface, molar_face_areas, molar_scale, prepare_surface
@@ -39,18 +67,33 @@ __all__ = [
     "BIN_KEYS",
     "CLASSIC_FIELDS",
     "CLASSIC_KEYS",
+    "DOOLKIT_SLOPE_FIELDS",
+    "HYPSODONTY_FIELDS",
+    "INCLINATION_FIELDS",
     "METRICS",
     "OPC_FIELDS",
     "ORIENTED",
     "ORIENT_MODES",
+    "RELIEF_INDEX_FIELDS",
     "RFI_FIELDS",
+    "SHAPE_INDEX_FIELDS",
     "SLOPE_FIELDS",
     "AlphaAdjustmentError",
     "ClassicDNEResult",
+    "DoolkitOPCRResult",
+    "DoolkitOPCResult",
+    "DoolkitSlopeResult",
+    "ElevationResult",
+    "FootprintResult",
+    "HypsodontyResult",
+    "InclinationResult",
     "OPCRResult",
     "OPCResult",
     "Orientation",
     "RFIResult",
+    "ReliefIndexResult",
+    "ReliefRateResult",
+    "ShapeIndexResult",
     "SlopeResult",
     "Surface",
     "check_alpha",
@@ -60,15 +103,28 @@ __all__ = [
     "check_metrics",
     "check_orient",
     "classic_dne",
+    "doolkit_opc",
+    "doolkit_opcr",
+    "doolkit_slope",
+    "elevation",
+    "face_bearing",
     "find_orientation",
+    "footprint_area",
+    "hypsodonty",
+    "inclination",
     "molar_face_areas",
     "molar_scale",
     "opc",
     "opcr",
     "orient_vertices",
     "prepare_surface",
+    "r_round",
+    "relief_index",
+    "relief_rate",
+    "relief_rate_below_median",
     "rfi",
     "rotation_key",
     "rotations",
+    "shape_index",
     "slope",
 ]
