@@ -47,8 +47,22 @@ _QUARTER = float(np.arctan2(1.0, 0.0))
 # --- the mesh as doolkit reads it ---------------------------------------------------------
 
 
+def _may_repeat(vertices: np.ndarray) -> bool:
+    """False if no two rows of `vertices` are equal (a hash of each row, sorted)."""
+    bits = (vertices + 0.0).astype(np.float32).view(np.uint32).astype(np.uint64)  # -0 as +0
+    hashed = (
+        (bits[:, 0] * np.uint64(0x9E3779B97F4A7C15))
+        ^ (bits[:, 1] * np.uint64(0xC2B2AE3D27D4EB4F))
+        ^ (bits[:, 2] * np.uint64(0x165667B19E3779F9))
+    )
+    hashed.sort()
+    return bool(np.any(hashed[1:] == hashed[:-1]))
+
+
 def _merge_equal_vertices(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """`faces` with every vertex index replaced by its first exact duplicate's."""
+    if not _may_repeat(vertices):
+        return faces
     order = np.lexsort((vertices[:, 2], vertices[:, 1], vertices[:, 0]))
     ordered = vertices[order]
     same = np.all(ordered[1:] == ordered[:-1], axis=1)
@@ -68,6 +82,9 @@ def _drop_duplicate_faces(faces: np.ndarray, n: int) -> np.ndarray:
     key = np.sort(faces, axis=1)
     if n < 2**21:
         flat = (key[:, 0] * n + key[:, 1]) * n + key[:, 2]
+        ordered = np.sort(flat)
+        if not np.any(ordered[1:] == ordered[:-1]):
+            return faces
         _, first = np.unique(flat, return_index=True)
     else:  # pragma: no cover - meshes of over two million vertices
         _, first = np.unique(key, axis=0, return_index=True)

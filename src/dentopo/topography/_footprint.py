@@ -5,7 +5,8 @@ TEMPORARY: this module implements only ``hull="convex"`` and raises
 
 doolkit's convex footprint: the vertices' (x, y), exact duplicate rows
 dropped, ``grDevices::chull`` on them (unshifted, unrounded), and the
-shoelace area of the hull ring.
+shoelace area of the hull ring.  Here the hull is Andrew's monotone chain
+(duplicates and collinear points on the hull change nothing in the area).
 """
 
 from __future__ import annotations
@@ -13,8 +14,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
+from .._jit import njit
 from ._angles import doolkit_mesh
 
 #: Footprint outlines.
@@ -42,6 +43,36 @@ class FootprintResult:
     def to_dict(self) -> dict:
         """``{"area2d": ...}`` (concave) or ``{"area2d_convex": ...}``."""
         return {"area2d" if self.hull == "concave" else "area2d_convex": self.area}
+
+
+@njit(cache=True)
+def _cross(points, o, a, b):
+    return (points[a, 0] - points[o, 0]) * (points[b, 1] - points[o, 1]) - (
+        points[a, 1] - points[o, 1]
+    ) * (points[b, 0] - points[o, 0])
+
+
+@njit(cache=True)
+def monotone_chain(points, order, hull):
+    """Andrew's monotone chain on `points` sorted by (x, y) in `order`: the hull into `hull`.
+
+    Writes the hull's point indices counter-clockwise (collinear points left
+    out) and returns how many.
+    """
+    k = 0
+    for p in order:
+        while k >= 2 and _cross(points, hull[k - 2], hull[k - 1], p) <= 0:
+            k -= 1
+        hull[k] = p
+        k += 1
+    lower = k + 1
+    for i in range(order.shape[0] - 2, -1, -1):
+        p = order[i]
+        while k >= lower and _cross(points, hull[k - 2], hull[k - 1], p) <= 0:
+            k -= 1
+        hull[k] = p
+        k += 1
+    return k - 1
 
 
 def check_hull(hull) -> str:
@@ -78,11 +109,11 @@ def footprint_area(mesh, *, hull: str = "concave") -> FootprintResult:
     if hull == "concave":
         raise NotImplementedError("the concave footprint (concaveman) is not implemented here")
     points = np.ascontiguousarray(doolkit_mesh(mesh).vertices[:, :2])
-    try:
-        convex = ConvexHull(points)
-    except QhullError as exc:
-        raise ValueError(
-            "the footprint has no area: the vertices' x-y positions lie on one line"
-        ) from exc
-    ring = points[convex.vertices]
-    return FootprintResult(area=shoelace(ring), hull=hull, ring=ring)
+    order = np.lexsort((points[:, 1], points[:, 0]))
+    index = np.empty(2 * len(points) + 1, dtype=np.int64)
+    count = monotone_chain(points, order, index)
+    ring = points[index[:count]]
+    area = shoelace(ring) if count >= 3 else 0.0
+    if not area > 0:
+        raise ValueError("the footprint has no area: the vertices' x-y positions lie on one line")
+    return FootprintResult(area=area, hull=hull, ring=ring)

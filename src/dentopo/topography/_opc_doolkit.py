@@ -129,6 +129,44 @@ def bin_patches(pairs, face_bin, face_patch):
     return patches
 
 
+@njit(cache=True)
+def bin_faces(bearing, edges, face_bin):
+    """doolkit's bin of each bearing into `face_bin` (:func:`face_bins`, compiled).
+
+    Bin i (1..bins) is ``edges[i-1] <= b < edges[i]``, or ``b < edges[i] - 360``
+    when ``edges[i] >= 360``; the first bin that holds a bearing wins, 0 if none.
+    """
+    bins = edges.shape[0] - 1
+    for f in range(bearing.shape[0]):
+        b = bearing[f]
+        face_bin[f] = 0
+        for i in range(1, bins + 1):
+            if edges[i - 1] <= b < edges[i]:
+                face_bin[f] = i
+                break
+        if face_bin[f] == 0:
+            for i in range(1, bins + 1):
+                if edges[i] >= 360.0 and b < edges[i] - 360.0:
+                    face_bin[f] = i
+                    break
+
+
+@njit(cache=True)
+def opc_total(pairs, bearing, edges, min_size, face_bin, face_patch):
+    """The number of patches of at least `min_size` faces at one set of bin edges."""
+    bin_faces(bearing, edges, face_bin)
+    patches = bin_patches(pairs, face_bin, face_patch)
+    size = np.zeros(patches, dtype=np.int64)
+    for f in range(face_patch.shape[0]):
+        if face_patch[f] >= 0:
+            size[face_patch[f]] += 1
+    total = 0
+    for p in range(patches):
+        if size[p] >= min_size:
+            total += 1
+    return total
+
+
 # --- results ------------------------------------------------------------------------------
 
 
@@ -248,13 +286,8 @@ def bin_edges(bins: int, rotation: float) -> np.ndarray:
 
 def face_bins(bearing: np.ndarray, bins: int, rotation: float) -> np.ndarray:
     """doolkit's bin (1..bins) of each face bearing, 0 for none (see :func:`doolkit_opc`)."""
-    edges = bin_edges(bins, rotation)
-    index = np.searchsorted(edges, bearing, side="right")  # edges[index - 1] <= b < edges[index]
-    face_bin = np.where((index >= 1) & (index <= bins), index, 0).astype(np.int64)
-    for i in range(1, bins + 1):
-        upper = edges[i]
-        if upper >= 360.0:
-            face_bin[(face_bin == 0) & (bearing < upper - 360.0)] = i
+    face_bin = np.empty(len(bearing), dtype=np.int64)
+    bin_faces(np.ascontiguousarray(bearing, dtype=np.float64), bin_edges(bins, rotation), face_bin)
     return face_bin
 
 
@@ -428,10 +461,14 @@ def doolkit_opcr(
     dm = doolkit_mesh(mesh, check_orient(orient))
     dm.warn_orientation()
     pairs = _pairs(dm)
-    measured = dm.trimesh()
     rotations = tuple(float((j * 360.0) / bins**2) for j in range(bins))
-    results = [_opc_of(dm, pairs, bins, r, min_size, measured) for r in rotations]
-    values = tuple(result.opc for result in results)
+    first = _opc_of(dm, pairs, bins, rotations[0], min_size, None)
+    face_bin = np.empty(len(dm.faces), dtype=np.int64)
+    face_patch = np.empty(len(dm.faces), dtype=np.int64)
+    values = (first.opc,)
+    for r in rotations[1:]:
+        total = opc_total(pairs, dm.bearing, bin_edges(bins, r), min_size, face_bin, face_patch)
+        values = (*values, int(total))
     return DoolkitOPCRResult(
         opcr=sum(values) / bins,
         rotations=rotations,
@@ -440,6 +477,6 @@ def doolkit_opcr(
         min_size=min_size,
         vertices=len(dm.vertices),
         faces=len(dm.faces),
-        first=results[0],
+        first=first,
         orientation=dm.orientation,
     )
