@@ -13,9 +13,10 @@ This module also prepares the mesh as doolkit's reader leaves it
 * coordinates rounded to single precision (vcglib's ``Coord3f``; a mesh of
   float32 values, as every PLY of the shared data, is unchanged);
 * ``clean = TRUE``: vertices with exactly equal coordinates merged (each onto
-  its first occurrence), faces using the same three vertices dropped (the
-  first kept), vertices no face uses dropped, then the rest renumbered in
-  their order;
+  its first occurrence), faces then using a vertex twice dropped (vcglib's
+  duplicate-vertex removal drops them), faces using the same three vertices
+  dropped (the first kept), vertices no face uses dropped, then the rest
+  renumbered in their order;
 * no face is dropped for having no area: doolkit keeps them (their slope is
   NaN, which makes the mean NaN, as in doolkit).  A :class:`Surface` given in
   place of a mesh is measured as it is, molaR's cleaning (zero-area faces
@@ -112,7 +113,14 @@ def read_as_doolkit(mesh) -> tuple[np.ndarray, np.ndarray]:
     vertices, faces = as_arrays(mesh)
     vertices = vertices.astype(np.float32).astype(np.float64)
     faces = _merge_equal_vertices(vertices, faces)
+    twice = (
+        (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 2] == faces[:, 0])
+    )
+    if twice.any():
+        faces = faces[~twice]
     faces = _drop_duplicate_faces(faces, len(vertices))
+    if len(faces) == 0:
+        raise ValueError("the mesh has no face with three distinct vertices")
     return _drop_unused(vertices, faces)
 
 
