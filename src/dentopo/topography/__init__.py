@@ -12,6 +12,12 @@ and per-edge passes are compiled (``_kernels``), and RFI's Delaunay
 triangulation is a compiled, certified sweep with qhull as the fallback
 (``_delaunay``).
 
+doolkit 1.42.2's metrics, in its definitions and precision: face slope,
+inclination and bearing on the mesh as its reader leaves it (``_angles``),
+its OPC and OPCR (``_opc_doolkit``), elevation, the Ungar, Boyer and Guy
+relief indices, relief rate, shape index and hypsodonty (``_relief``), and
+the footprint those relief indices divide by (``_footprint``).
+
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
 """

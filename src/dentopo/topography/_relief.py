@@ -284,7 +284,7 @@ def elevation(mesh, *, orient: str = "as-is") -> ElevationResult:
     --------
     >>> import trimesh
     >>> from dentopo.topography import elevation
-    >>> elevation(trimesh.creation.box()).face_elevation.min()  # the bottom's faces
+    >>> float(elevation(trimesh.creation.box()).face_elevation.min())  # the bottom faces
     0.0
     """
     dm = doolkit_mesh(mesh, check_orient(orient))
