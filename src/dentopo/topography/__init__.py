@@ -14,14 +14,30 @@ triangulation is a compiled, certified sweep with qhull as the fallback
 doolkit's DNE and angularity: ``_arc``, ``_dne_doolkit``, ``_angularity``)
 share a float32 emulation of the VCG library's geometry (``_vcg``).
 
+doolkit 1.42.2's metrics, in its definitions and precision: face slope,
+inclination and bearing on the mesh as its reader leaves it (``_angles``),
+its OPC and OPCR (``_opc_doolkit``), elevation, the Ungar, Boyer and Guy
+relief indices, relief rate, shape index and hypsodonty (``_relief``), and
+the footprint those relief indices divide by (``_footprint``).
+
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
 """
 
+from ._angles import (
+    DOOLKIT_SLOPE_FIELDS,
+    INCLINATION_FIELDS,
+    DoolkitSlopeResult,
+    InclinationResult,
+    doolkit_slope,
+    face_bearing,
+    inclination,
+)
 from ._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
 from ._arc import ARC_FIELDS, DOOLKIT_ARC_FIELDS, ARCResult, DoolkitARCResult, arc, doolkit_arc
 from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
 from ._dne_doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
+from ._footprint import FootprintResult, footprint_area
 from ._metrics import (
     ALIASES,
     ALL,
@@ -41,6 +57,7 @@ from ._metrics import (
     rotations,
 )
 from ._opc import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
+from ._opc_doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
 from ._orientation import ORIENT_MODES, Orientation, check_orient, find_orientation, orient_vertices
 from ._parameters import (
     BOUNDARY_RULES,
@@ -52,6 +69,23 @@ from ._parameters import (
     check_finite,
     check_int,
     check_min_area,
+)
+from ._relief import (
+    HYPSODONTY_FIELDS,
+    RELIEF_INDEX_FIELDS,
+    SHAPE_INDEX_FIELDS,
+    ElevationResult,
+    HypsodontyResult,
+    ReliefIndexResult,
+    ReliefRateResult,
+    ShapeIndexResult,
+    elevation,
+    hypsodonty,
+    r_round,
+    relief_index,
+    relief_rate,
+    relief_rate_below_median,
+    shape_index,
 )
 from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
@@ -72,13 +106,18 @@ __all__ = [
     "DOOLKIT_DNE_FIELDS",
     "DOOLKIT_METRICS",
     "DOOLKIT_ROTATION_KEYS",
+    "DOOLKIT_SLOPE_FIELDS",
     "GROUPS",
+    "HYPSODONTY_FIELDS",
+    "INCLINATION_FIELDS",
     "METRICS",
     "MOLAR_METRICS",
     "OPC_FIELDS",
     "ORIENTED",
     "ORIENT_MODES",
+    "RELIEF_INDEX_FIELDS",
     "RFI_FIELDS",
+    "SHAPE_INDEX_FIELDS",
     "SLOPE_FIELDS",
     "ARCResult",
     "AlphaAdjustmentError",
@@ -86,10 +125,20 @@ __all__ = [
     "ClassicDNEResult",
     "DoolkitARCResult",
     "DoolkitDNEResult",
+    "DoolkitOPCRResult",
+    "DoolkitOPCResult",
+    "DoolkitSlopeResult",
+    "ElevationResult",
+    "FootprintResult",
+    "HypsodontyResult",
+    "InclinationResult",
     "OPCRResult",
     "OPCResult",
     "Orientation",
     "RFIResult",
+    "ReliefIndexResult",
+    "ReliefRateResult",
+    "ShapeIndexResult",
     "SlopeResult",
     "Surface",
     "angularity",
@@ -107,7 +156,15 @@ __all__ = [
     "classic_dne",
     "doolkit_arc",
     "doolkit_dne",
+    "doolkit_opc",
+    "doolkit_opcr",
+    "doolkit_slope",
+    "elevation",
+    "face_bearing",
     "find_orientation",
+    "footprint_area",
+    "hypsodonty",
+    "inclination",
     "metric_names",
     "molar_face_areas",
     "molar_scale",
@@ -115,8 +172,13 @@ __all__ = [
     "opcr",
     "orient_vertices",
     "prepare_surface",
+    "r_round",
+    "relief_index",
+    "relief_rate",
+    "relief_rate_below_median",
     "rfi",
     "rotation_key",
     "rotations",
+    "shape_index",
     "slope",
 ]
