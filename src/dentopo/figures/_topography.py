@@ -957,7 +957,8 @@ def _placed_bar_html(title: str, scale, ticks, note: str) -> str:
         f'<div id="ticks" class="placed">{spans}</div>'
     )
     if note:
-        block += f'\n<div id="note">{html_escape.escape(note)}</div>'
+        lines = "<br>".join(html_escape.escape(line) for line in note.splitlines())
+        block += f'\n<div id="note">{lines}</div>'
     return block
 
 
