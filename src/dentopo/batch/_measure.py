@@ -15,7 +15,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 from ..ariadne import ariaDNE
-from ..formats import METRIC_KEYS, SETTING_KEYS
+from ..formats import DOOLKIT_NAMES, METRIC_KEYS, SETTING_KEYS
 from ..mesh import load_mesh
 from ..topography import (
     CLASSIC_KEYS,
@@ -36,12 +36,21 @@ from ..topography import (
     classic_dne,
     doolkit_arc,
     doolkit_dne,
+    doolkit_opc,
+    doolkit_opcr,
+    doolkit_slope,
+    footprint_area,
+    hypsodonty,
+    inclination,
     opc,
     opcr,
     prepare_surface,
+    relief_index,
+    relief_rate_below_median,
     rfi,
     rotation_key,
     rotations,
+    shape_index,
     slope,
 )
 
@@ -185,10 +194,21 @@ class Measurement:
 
 
 def _values(metric: str, result) -> dict:
-    """The record values of one metric's result (classic DNE's under its prefixed keys)."""
+    """The record values of one metric's result (classic DNE's under its prefixed keys).
+
+    doolkit's metrics give their values under the names of doolkit's table,
+    which are the record keys except where molaR has the name (OPC, OPCR:
+    ``dk_`` keys, see :data:`dentopo.formats.DOOLKIT_NAMES`).
+    """
     if metric == "classic":
         return {key: getattr(result, name) for name, key in CLASSIC_KEYS.items()}
-    return result.to_dict()
+    if metric == "footprint":
+        concave, convex = result
+        return {"area2d": concave.area, "area2d_convex": convex.area}
+    values = result.to_dict()
+    if metric in DOOLKIT_METRICS:
+        return {key: values[DOOLKIT_NAMES.get(key, key)] for key in METRIC_KEYS[metric]}
+    return values
 
 
 def _prepared(mesh):
@@ -238,8 +258,23 @@ _TOPOGRAPHY = {
         surface, boundary=options.arc_boundary, range=options.arc_range
     ),
     "angularity": lambda surface, options: angularity(surface),
+    "doolkit_slope": lambda surface, options: doolkit_slope(surface),
+    "relief_index": lambda surface, options: relief_index(surface, orient=options.orient),
+    "inclination": lambda surface, options: inclination(surface, orient=options.orient),
+    "doolkit_opc": lambda surface, options: doolkit_opc(surface, orient=options.orient),
+    "doolkit_opcr": lambda surface, options: doolkit_opcr(surface, orient=options.orient),
     "doolkit_arc": lambda surface, options: doolkit_arc(surface),
     "doolkit_dne": lambda surface, options: doolkit_dne(surface),
+    "relief_rate": lambda surface, options: relief_rate_below_median(
+        surface, orient=options.orient
+    ),
+    "shape_index": lambda surface, options: shape_index(surface),
+    # doolkit's area2d (concave) and its convex counterpart
+    "footprint": lambda surface, options: (
+        footprint_area(surface, hull="concave"),
+        footprint_area(surface, hull="convex"),
+    ),
+    "hypsodonty": lambda surface, options: hypsodonty(surface),
 }
 
 

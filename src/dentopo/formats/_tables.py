@@ -446,9 +446,7 @@ DOOLKIT = Layout(
 )
 
 #: Column layouts by name; :func:`read_table` recognises a file's layout by its header.
-LAYOUTS: dict[str, Layout] = {
-    layout.name: layout for layout in (DENTOPO, SIGNDNE, MOLAR, DOOLKIT)
-}
+LAYOUTS: dict[str, Layout] = {layout.name: layout for layout in (DENTOPO, SIGNDNE, MOLAR, DOOLKIT)}
 
 
 def layout(columns: str | Layout, metrics=None, rotations: Sequence[float] = ()) -> Layout:

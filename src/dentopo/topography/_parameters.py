@@ -74,8 +74,10 @@ def check_classic_options(outliers, boundary, kappa) -> tuple[float, str, float]
     outliers = check_finite("dne_outliers", outliers)
     if not 0.0 <= outliers <= 100.0:
         raise ValueError(f"dne_outliers is a percentage and must lie in [0, 100]; got {outliers!r}")
-    return outliers, check_choice("dne_boundary", boundary, BOUNDARY_RULES), check_finite(
-        "dne_kappa", kappa
+    return (
+        outliers,
+        check_choice("dne_boundary", boundary, BOUNDARY_RULES),
+        check_finite("dne_kappa", kappa),
     )
 
 
