@@ -352,8 +352,9 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         "opc (the patches), rfi (the footprint outline over the top view), or per face arc "
         "(diverging, centred on 0; --limits and --percentile apply), angularity (0 to 90 "
         "degrees), inclination (0 to 180 degrees) or elevation (mesh units, 0 to its highest "
-        "face); the metric must be among --metrics, except elevation, which the picture step "
-        "computes from the mesh itself (doolkit's, with --orient)",
+        "face); the metric must be among --metrics, except elevation (doolkit's height above "
+        "the lowest vertex), which the picture step computes from the mesh file itself (with "
+        "--orient auto a crown pointing to -z is turned first)",
     )
     view.add_argument(
         "--view",

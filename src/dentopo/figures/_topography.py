@@ -995,8 +995,10 @@ def render_face_values(
     (angularity, inclination, elevation) on the sequential map (viridis: dark
     blue-purple low, yellow high; the slope picture's map).  Faces are
     coloured flat, one colour per face.  Values beyond the limits get the end
-    colours; faces without a value (NaN) are drawn mid grey
-    (:data:`MISSING_RGB`); either is counted under the colour bar.
+    colours (counted under the colour bar on the sequential map; on the
+    diverging one a few are expected, its default limit being a percentile);
+    faces without a value (NaN) are drawn mid grey (:data:`MISSING_RGB`) and
+    counted.
     :data:`FACE_METRICS` holds the settings of the four metrics drawn by
     ``dentopo --color-by``: ``render_face_values(r.mesh, r.face_arc,
     **FACE_METRICS["arc"].keywords())``.
