@@ -21,6 +21,7 @@ from ..topography import (
     CLASSIC_KEYS,
     ORIENTED,
     check_alpha,
+    check_duplicates,
     check_find_alpha,
     check_finite,
     check_int,
@@ -55,7 +56,11 @@ class TopographyOptions:
         OPC's smallest counted patch, in faces.
     orient : str
         ``"as-is"`` (molaR's behaviour) or ``"auto"`` (a crown pointing to -z
-        is turned before the metrics that assume +z).
+        is turned before the metrics that assume +z, and faces wound inward
+        are rewound before those and classic DNE).
+    duplicates : str
+        ``"drop"`` (faces listed twice measured once) or ``"keep"`` (molaR's:
+        as listed); see :func:`dentopo.topography.prepare_surface`.
     """
 
     alpha: float = 0.075
@@ -64,6 +69,7 @@ class TopographyOptions:
     opcr_step: float = 5.625
     min_faces: int = 3
     orient: str = "as-is"
+    duplicates: str = "drop"
 
     def __post_init__(self):
         # the metrics' own checks, made once for the whole batch
@@ -73,6 +79,7 @@ class TopographyOptions:
         object.__setattr__(self, "opcr_step", check_finite("opcr_step", self.opcr_step))
         object.__setattr__(self, "min_faces", check_int("min_faces", self.min_faces, low=0))
         object.__setattr__(self, "orient", check_orient(self.orient))
+        object.__setattr__(self, "duplicates", check_duplicates(self.duplicates))
 
     def rotations(self) -> tuple[float, ...]:
         """OPCR's rotations, degrees."""
@@ -145,10 +152,10 @@ def _values(metric: str, result) -> dict:
     return result.to_dict()
 
 
-def _prepared(mesh):
+def _prepared(mesh, options: TopographyOptions):
     """The surface molaR's metrics share, or the reason it could not be prepared."""
     try:
-        return prepare_surface(mesh)
+        return prepare_surface(mesh, duplicates=options.duplicates)
     except (ValueError, TypeError, ArithmeticError) as exc:
         return exc
 
@@ -159,7 +166,7 @@ def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOption
     if isinstance(mesh, BaseException):  # every topography metric fails as it would alone
         raise mesh
     if metric == "classic":
-        return classic_dne(mesh)
+        return classic_dne(mesh, orient=options.orient)
     if metric == "rfi":
         return rfi(mesh, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient)
     if metric == "opcr":
@@ -208,7 +215,7 @@ def measure_mesh(
     ariadne_options = {} if ariadne_options is None else ariadne_options
     if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
         mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
-    surface = _prepared(mesh) if metrics != ("ariadne",) else None
+    surface = _prepared(mesh, options) if metrics != ("ariadne",) else None
     record: dict = {}
     results: dict = {}
     errors: dict = {}

@@ -32,13 +32,21 @@ from ._orientation import ORIENT_MODES, Orientation, check_orient, find_orientat
 from ._parameters import check_alpha, check_find_alpha, check_finite, check_int
 from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
-from ._surface import Surface, molar_face_areas, molar_scale, prepare_surface
+from ._surface import (
+    DUPLICATE_MODES,
+    Surface,
+    check_duplicates,
+    molar_face_areas,
+    molar_scale,
+    prepare_surface,
+)
 
 __all__ = [
     "ALL",
     "BIN_KEYS",
     "CLASSIC_FIELDS",
     "CLASSIC_KEYS",
+    "DUPLICATE_MODES",
     "METRICS",
     "OPC_FIELDS",
     "ORIENTED",
@@ -54,6 +62,7 @@ __all__ = [
     "SlopeResult",
     "Surface",
     "check_alpha",
+    "check_duplicates",
     "check_find_alpha",
     "check_finite",
     "check_int",
