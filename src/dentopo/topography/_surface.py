@@ -204,16 +204,31 @@ class Surface:
         return base._cached(("wound", orient), lambda: base._orient(orient, turn=False))
 
     def _survey(self) -> tuple[Orientation, np.ndarray]:
-        return self._cached(
-            "orientation",
-            lambda: survey(
+        """What :func:`find_orientation` finds, and which faces are wound inward."""
+        return self._cached("orientation", self._find_orientation)
+
+    def _find_orientation(self) -> tuple[Orientation, np.ndarray]:
+        if not (self.duplicates == "keep" and self.duplicate_faces):
+            return survey(
                 self.vertices,
                 self.faces,
                 self.area,
                 boundary=self.boundary_edges(),
                 consistent=self.consistent(),
-            ),
-        )
+            )
+        # repeated faces kept: the surface is that of each triangle once (a triangle and
+        # its copy would read as neighbours that disagree), each copy judged by its first
+        first, reverse = repeated_faces(self.faces)
+        once = first == np.arange(len(self.faces))
+        found, inward_once = survey(self.vertices, self.faces[once], self.area[once])
+        inward = np.zeros(len(self.faces), dtype=bool)
+        inward[once] = inward_once
+        inward = inward[first] ^ reverse
+        count = int(np.count_nonzero(inward))
+        if found.winding in ("outward", "inward", "mixed"):
+            winding = "outward" if count == 0 else "inward" if inward.all() else "mixed"
+            found = replace(found, winding=winding, inward_faces=count)
+        return replace(found, faces=len(self.faces)), inward
 
     def _rewound(self, inward: np.ndarray) -> Surface:
         """The cleaned surface with the `inward` faces' vertex order reversed (its own edges)."""
@@ -295,37 +310,45 @@ def check_duplicates(duplicates) -> str:
 
 
 def repeated_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Which faces repeat an earlier face's three vertices (in any order), and which of those
-    are wound the other way round from it.
+    """For each face, the first face with its three vertices (in any order), and whether it is
+    wound the other way round from that one.
 
-    The first face of each vertex set is not a repeat (trimesh's
-    ``unique_faces`` and ariaDNE's cleaning keep the same one).  A sort of the
-    faces' sorted vertex triples: O(m log m) whatever the vertices' valences.
+    A face repeats an earlier one where ``first != arange(m)``; the first face
+    of each vertex set is the one trimesh's ``unique_faces`` and ariaDNE's
+    cleaning keep.  A sort of the faces' sorted vertex triples: O(m log m)
+    whatever the vertices' valences.
 
     Returns
     -------
-    repeat, reversed : (m,) bool
+    first : (m,) int64
+    reversed : (m,) bool
     """
     faces = np.asarray(faces)
     m = len(faces)
-    repeat = np.zeros(m, dtype=bool)
+    first = np.arange(m)
     reverse = np.zeros(m, dtype=bool)
     if m < 2:
-        return repeat, reverse
-    key = np.sort(faces, axis=1)
-    order = np.lexsort((key[:, 2], key[:, 1], key[:, 0]))  # stable: earlier faces first
-    ordered = key[order]
-    same = np.all(ordered[1:] == ordered[:-1], axis=1)
+        return first, reverse
+    key = np.sort(faces, axis=1).astype(np.int64)
+    n = int(key[:, 2].max()) + 1
+    if n < 2**20:  # the triple packed into one integer: one sort instead of three
+        packed = (key[:, 0] * n + key[:, 1]) * n + key[:, 2]
+        order = np.argsort(packed, kind="stable")  # stable: earlier faces first
+        ordered = packed[order]
+        same = ordered[1:] == ordered[:-1]
+    else:
+        order = np.lexsort((key[:, 2], key[:, 1], key[:, 0]))
+        ordered = key[order]
+        same = np.all(ordered[1:] == ordered[:-1], axis=1)
     if not same.any():
-        return repeat, reverse
-    repeat[order[1:][same]] = True
+        return first, reverse
+    starts = np.r_[True, ~same]
+    first[order] = order[np.flatnonzero(starts)][np.cumsum(starts) - 1]  # its group's first
     # the winding's parity: odd permutations of the sorted triple are wound the other way
     a, b, c = faces[:, 0], faces[:, 1], faces[:, 2]
     parity = ((a > b).astype(np.int8) + (a > c) + (b > c)) % 2
-    starts = np.r_[True, ~same]
-    first = order[np.flatnonzero(starts)][np.cumsum(starts) - 1]  # its group's first face
-    reverse[order] = repeat[order] & (parity[order] != parity[first])
-    return repeat, reverse
+    reverse = parity != parity[first]
+    return first, reverse
 
 
 def _warn_duplicates(count: int, reverse: int, total: int, duplicates: str) -> None:
@@ -398,7 +421,8 @@ def prepare_surface(mesh, orient: str | None = None, *, duplicates: str = "drop"
         dropped = len(faces) - kept
         if dropped:
             faces, cross, norm = faces[keep], cross[keep], norm[keep]
-        repeat, reverse = repeated_faces(faces)
+        first, reverse = repeated_faces(faces)
+        repeat = first != np.arange(len(faces))
         repeats = int(np.count_nonzero(repeat))
         if repeats:
             _warn_duplicates(repeats, int(np.count_nonzero(reverse)), len(faces), duplicates)
