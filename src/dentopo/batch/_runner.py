@@ -431,6 +431,7 @@ def make_settings(
     opcr_step: float = 5.625,
     min_faces: int = 3,
     orient: str = "as-is",
+    duplicates: str = "drop",
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
 
@@ -461,6 +462,7 @@ def make_settings(
             opcr_step=opcr_step,
             min_faces=min_faces,
             orient=check_orient(orient),
+            duplicates=duplicates,
         ),
     )
 
@@ -489,6 +491,7 @@ def compute_batch(
     opcr_step: float = 5.625,
     min_faces: int = 3,
     orient: str = "as-is",
+    duplicates: str = "drop",
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -531,8 +534,14 @@ def compute_batch(
         :func:`dentopo.opc`.
     orient : {"as-is", "auto"}, default "as-is"
         ``"auto"`` turns a crown that points to -z before slope, OPC, OPCR and
-        RFI (see :func:`dentopo.find_orientation`); ``"as-is"`` measures it
-        as it is, as molaR does, and warns.
+        RFI (see :func:`dentopo.find_orientation`) and rewinds faces wound
+        inward before those and classic DNE; ``"as-is"`` measures it as it
+        is, as molaR does, and warns.
+    duplicates : {"drop", "keep"}, default "drop"
+        Faces listed more than once: measured once (``"drop"``, as ariaDNE's
+        cleaning and the ``faces`` column count them) or as listed by molaR's
+        metrics (``"keep"``, molaR's behaviour); warned about either way (see
+        :func:`dentopo.topography.prepare_surface`).
     scheduler : str or distributed.Client, optional
         Address of a Dask distributed scheduler (``"tcp://host:8786"``) or a
         client: run on that cluster instead of local processes (``jobs`` is
@@ -610,6 +619,7 @@ def compute_batch(
         opcr_step=opcr_step,
         min_faces=min_faces,
         orient=orient,
+        duplicates=duplicates,
     )
     check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
