@@ -180,18 +180,24 @@ def _face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
 
 
-def closed_volume(vertices: np.ndarray, faces: np.ndarray, boundary: np.ndarray) -> float:
+def closed_volume(
+    vertices: np.ndarray, faces: np.ndarray, boundary: np.ndarray, cross: np.ndarray | None = None
+) -> float:
     """Signed volume of the surface closed by a fan over each loop of its `boundary` edges.
 
     Each connected set of boundary edges gets a fan around its mean vertex,
     each edge run backwards (so that the fan is wound as the faces next to it);
     coordinates are taken about the mean vertex, so that the sum is well
     conditioned far from the origin.  Positive for faces wound outward.
+    `cross`: the faces' ``(v2 - v1) x (v3 - v1)``, if the caller has them
+    (``det(x1, x2, x3) = x1 . ((x2 - x1) x (x3 - x1))``).
     """
     origin = vertices.mean(axis=0)
     points = vertices - origin
-    tri = points[faces]
-    volume = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum()
+    if cross is None:
+        tri = points[faces]
+        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    volume = np.einsum("ij,ij->", points[faces[:, 0]], cross)
     if len(boundary):
         n = len(vertices)
         graph = coo_matrix((np.ones(len(boundary)), (boundary[:, 0], boundary[:, 1])), shape=(n, n))
@@ -216,11 +222,13 @@ def survey(
     area: np.ndarray | None = None,
     boundary: np.ndarray | None = None,
     consistent: bool | None = None,
+    cross: np.ndarray | None = None,
 ) -> tuple[Orientation, np.ndarray]:
     """:func:`find_orientation`, and which faces are wound inward ((m,) bool).
 
     `consistent`: whether the caller knows that no shared edge is run the same
-    way by both its faces (None: found here).
+    way by both its faces (None: found here); `cross`: the faces' cross
+    products, if the caller has them.
     """
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
@@ -231,13 +239,16 @@ def survey(
     if agreeing is not faces:  # some faces were flipped to agree with their neighbours
         volume = closed_volume(vertices, agreeing, boundary_edges(agreeing, len(vertices)))
     else:
-        volume = closed_volume(vertices, faces, edges)
+        volume = closed_volume(vertices, faces, edges, cross)
     total = float(area.sum())
     if not abs(volume) > FLAT_TOLERANCE * total**1.5:
         found = Orientation("undetermined", "flat", winding="undetermined", faces=m)
         return found, np.zeros(m, dtype=bool)
     outward = agreeing if volume > 0 else agreeing[:, ::-1]
-    inward = np.any(outward != faces, axis=1)
+    if agreeing is faces:
+        inward = np.full(m, volume < 0)
+    else:
+        inward = np.any(outward != faces, axis=1)
     count = int(np.count_nonzero(inward))
     winding = "outward" if count == 0 else "inward" if count == m else "mixed"
     details = {"winding": winding, "inward_faces": count, "faces": m}

@@ -215,6 +215,7 @@ class Surface:
                 self.area,
                 boundary=self.boundary_edges(),
                 consistent=self.consistent(),
+                cross=self.cross,
             )
         # repeated faces kept: the surface is that of each triangle once (a triangle and
         # its copy would read as neighbours that disagree), each copy judged by its first
