@@ -14,7 +14,11 @@ from dentopo.topography import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
 from dentopo.topography._rfi import DOWN_STEP, FINE_STEP, UP_STEP, AlphaShape, first_occurrence
 
 #: The reference crowns point to -z, as molaR measured them: that warning is expected here.
-pytestmark = pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning")
+pytestmark = [
+    pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning"),
+    # planes and single faces are flat: no up or down (tests/test_orientation.py)
+    pytest.mark.filterwarnings("ignore:the surface is flat:UserWarning"),
+]
 
 PARITY = 1e-9
 

@@ -52,7 +52,7 @@ from ..formats import (
 )
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
-from ..topography import BOUNDARY_RULES, GROUPS, METRICS, ORIENT_MODES
+from ..topography import BOUNDARY_RULES, DUPLICATE_MODES, GROUPS, METRICS, ORIENT_MODES
 from ._output import TableOutput, directory_problem, writable_problem
 from ._progress import PROG, Progress
 from ._progress import say as _say
@@ -259,8 +259,18 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         type=str.lower,
         choices=ORIENT_MODES,
         default="as-is",
-        help="as-is (default, molaR's: measure the crown as it lies, warn if it points to -z) "
-        "or auto (turn a crown pointing to -z before slope, OPC, OPCR and RFI)",
+        help="as-is (default, molaR's: measure the crown as it lies, warn if it points to -z "
+        "or its faces are wound inward) or auto (turn a crown pointing to -z before slope, "
+        "OPC, OPCR and RFI; rewind faces wound inward before those and classic DNE)",
+    )
+    topo.add_argument(
+        "--duplicates",
+        type=str.lower,
+        choices=DUPLICATE_MODES,
+        default="drop",
+        help="faces listed more than once: drop (default: each triangle measured once, as "
+        "ariaDNE and the faces column count it) or keep (molaR's: measured as listed); "
+        "warned about either way",
     )
     compute.add_argument(
         "--geometry",
@@ -691,6 +701,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             arc_boundary=args.arc_boundary,
             arc_range=tuple(args.arc_range),
             orient=args.orient,
+            duplicates=args.duplicates,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
