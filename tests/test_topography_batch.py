@@ -207,7 +207,10 @@ def test_per_face_files_hold_slope_and_patches(crowns, tmp_path):
 @pytest.mark.parametrize(
     "options, message",
     [
-        (["--metrics", "dne"], "unknown metric 'dne'"),
+        (["--metrics", "curvy"], "unknown metric 'curvy'"),
+        (["--metrics", "arc", "--arc-range", "0.5", "0.2"], "arc_range must be two quantiles"),
+        (["--metrics", "classic", "--dne-outliers", "101"], "dne_outliers is a percentage"),
+        (["--metrics", "opc", "--min-area", "1.5"], "min_area is a fraction"),
         (["--metrics", "rfi", "--alpha", "-1"], "alpha must be a positive"),
         (["--metrics", "opcr", "--opcr-steps", "0"], "opcr_steps must be at least 1"),
         (["--metrics", "opc", "--min-faces", "-1"], "min_faces must be at least 0"),
