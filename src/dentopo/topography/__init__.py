@@ -30,7 +30,14 @@ from ._metrics import (
 from ._opc import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
 from ._orientation import ORIENT_MODES, Orientation, check_orient, find_orientation, orient_vertices
 from ._parameters import check_alpha, check_find_alpha, check_finite, check_int
-from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
+from ._rfi import (
+    RFI_FIELDS,
+    AlphaAdjustmentError,
+    FootprintError,
+    FootprintWarning,
+    RFIResult,
+    rfi,
+)
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
 from ._surface import Surface, molar_face_areas, molar_scale, prepare_surface
 
@@ -47,6 +54,8 @@ __all__ = [
     "SLOPE_FIELDS",
     "AlphaAdjustmentError",
     "ClassicDNEResult",
+    "FootprintError",
+    "FootprintWarning",
     "OPCRResult",
     "OPCResult",
     "Orientation",
