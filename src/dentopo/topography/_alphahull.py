@@ -70,14 +70,23 @@ _WIDE = 1e-3
 
 
 @njit(cache=True)
-def edge_table(simplices, neighbors, radius, edges, r_left, r_right, on_hull):
+def _side(points, i, j, k):
+    """Twice the signed area of (i, j, k): positive if k lies left of i -> j."""
+    return (points[j, 0] - points[i, 0]) * (points[k, 1] - points[i, 1]) - (
+        points[j, 1] - points[i, 1]
+    ) * (points[k, 0] - points[i, 0])
+
+
+@njit(cache=True)
+def edge_table(points, simplices, neighbors, radius, edges, r_left, r_right, on_hull):
     """Every Delaunay edge once, with the circumradii of the triangles on its two sides.
 
-    The triangles are counter-clockwise.  Edge: side k of triangle t (opposite
-    its vertex k), from the triangle with the lower index or the only one, as
-    ``(i, j)`` with t on its left; ``r_left`` is t's circumradius, ``r_right``
-    the other triangle's or infinity on the convex hull, whose vertices are
-    flagged in `on_hull`.  Returns the number of edges written.
+    Edge: side k of triangle t (opposite its vertex k), from the triangle with
+    the lower index or the only one, as ``(i, j)`` with t on its left (the
+    vertex order of `simplices` does not matter; a flat triangle takes the
+    side its neighbour does not); ``r_left`` is that triangle's circumradius,
+    ``r_right`` the other's, or infinity on the convex hull, whose vertices
+    are flagged in `on_hull`.  Returns the number of edges written.
     """
     count = 0
     for t in range(simplices.shape[0]):
@@ -87,6 +96,12 @@ def edge_table(simplices, neighbors, radius, edges, r_left, r_right, on_hull):
                 continue
             i = simplices[t, (k + 1) % 3]
             j = simplices[t, (k + 2) % 3]
+            side = _side(points, i, j, simplices[t, k])
+            if side == 0 and o != -1:
+                apex = simplices[o, 0] + simplices[o, 1] + simplices[o, 2] - i - j
+                side = -_side(points, i, j, apex)
+            if side < 0:
+                i, j = j, i
             edges[count, 0] = i
             edges[count, 1] = j
             r_left[count] = radius[t]
@@ -453,15 +468,8 @@ class AlphaHull:
             raise ValueError(
                 "the footprint has no area: the vertices' x-y positions lie on one line"
             ) from exc
-        simplices = np.array(simplices, dtype=np.int64)
-        neighbors = np.array(neighbors, dtype=np.int64)
-        a, b, c = (points[simplices[:, m]] for m in range(3))
-        turned = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (
-            c[:, 0] - a[:, 0]
-        ) < 0
-        # counter-clockwise: swap the last two vertices (and the neighbours opposite them)
-        simplices[turned] = simplices[turned][:, [0, 2, 1]]
-        neighbors[turned] = neighbors[turned][:, [0, 2, 1]]
+        simplices = np.ascontiguousarray(simplices, dtype=np.int64)
+        neighbors = np.ascontiguousarray(neighbors, dtype=np.int64)
         ux, uy = np.empty(len(simplices)), np.empty(len(simplices))
         _kernels.circumcentres(points, simplices, ux, uy)
         self.simplices = simplices
@@ -470,7 +478,9 @@ class AlphaHull:
         edges = np.empty((most, 2), dtype=np.int64)
         r_left, r_right = np.empty(most), np.empty(most)
         self.on_hull = np.zeros(self.n, dtype=bool)
-        count = edge_table(simplices, neighbors, self.radius, edges, r_left, r_right, self.on_hull)
+        count = edge_table(
+            points, simplices, neighbors, self.radius, edges, r_left, r_right, self.on_hull
+        )
         self.edges = edges[:count]
         self.r_left = r_left[:count]
         self.r_right = r_right[:count]

@@ -294,7 +294,8 @@ def circumcentres(points, simplices, ux, uy):
     """Each triangle's circumcentre relative to its first vertex (the radius is its hypot).
 
     ``b, c`` are the other two vertices minus the first; ``d = 2 (b x c)``;
-    ``ux = (c_y |b|^2 - b_y |c|^2) / d``, ``uy = (b_x |c|^2 - c_x |b|^2) / d``.
+    ``ux = (c_y |b|^2 - b_y |c|^2) / d``, ``uy = (b_x |c|^2 - c_x |b|^2) / d``;
+    infinite for a flat triangle (``d = 0``, which qhull can return on collinear points).
     """
     for t in range(simplices.shape[0]):
         p, q, r = simplices[t, 0], simplices[t, 1], simplices[t, 2]
@@ -303,6 +304,10 @@ def circumcentres(points, simplices, ux, uy):
         cx = points[r, 0] - points[p, 0]
         cy = points[r, 1] - points[p, 1]
         d = 2.0 * (bx * cy - by * cx)
+        if d == 0.0:
+            ux[t] = np.inf
+            uy[t] = np.inf
+            continue
         bb = bx * bx + by * by
         cc = cx * cx + cy * cy
         ux[t] = (cy * bb - by * cc) / d
