@@ -75,7 +75,10 @@ def test_auto_turns_a_crown_pointing_down_and_equals_turning_it_by_hand():
     assert np.array_equal(as_is.face_slope, 180 - turned.face_slope)
     assert opc(down, orient="auto").opc == opc(up).opc
     assert opcr(down, orient="auto").opc_values == opcr(up).opc_values
-    assert rfi(down, orient="auto", find_alpha=True).rfi == rfi(up, find_alpha=True).rfi
+    # from alpha 1: on this coarse dome molaR's walk from 0.075 runs out of its 99 hulls
+    searched = rfi(down, orient="auto", alpha=1.0, find_alpha=True)
+    expected = rfi(up, alpha=1.0, find_alpha=True)
+    assert (searched.rfi, searched.alpha) == (expected.rfi, expected.alpha)
     np.testing.assert_array_equal(down.vertices, before)  # the caller's mesh is untouched
 
 

@@ -87,7 +87,14 @@ from ._relief import (
     relief_rate_below_median,
     shape_index,
 )
-from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
+from ._rfi import (
+    RFI_FIELDS,
+    AlphaAdjustmentError,
+    FootprintError,
+    FootprintWarning,
+    RFIResult,
+    rfi,
+)
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
 from ._surface import (
     DUPLICATE_MODES,
@@ -137,7 +144,9 @@ __all__ = [
     "DoolkitOPCResult",
     "DoolkitSlopeResult",
     "ElevationResult",
+    "FootprintError",
     "FootprintResult",
+    "FootprintWarning",
     "HypsodontyResult",
     "InclinationResult",
     "OPCRResult",
