@@ -4,12 +4,15 @@ The temporary file is made by :func:`tempfile.mkstemp`: a new name, created
 with ``O_CREAT | O_EXCL | O_NOFOLLOW``, so that a file or a symbolic link
 planted where it goes is never opened, let alone written (another name is
 drawn).  Its mode is set through the open file (``fchmod``), never through the
-name, and the rename replaces the target's name: a symbolic link at the
-target is replaced by the new file, its own target is left alone.
+name, and it is renamed only if its name still leads to the file written (not
+to something put in its place meanwhile).  The rename replaces the target's
+name: a symbolic link at the target is replaced by the new file, its own
+target is left alone.
 """
 
 from __future__ import annotations
 
+import errno
 import functools
 import io
 import os
@@ -54,6 +57,12 @@ def atomic_write(
             else:  # pragma: no cover -- Windows before Python 3.13
                 os.chmod(temporary, mode)
             os.fsync(stream.fileno())
+            mine = os.fstat(stream.fileno())
+        there = os.lstat(temporary)
+        if (there.st_dev, there.st_ino) != (mine.st_dev, mine.st_ino):  # not renamed: the target
+            raise FileExistsError(  # would become whatever was put there
+                errno.EEXIST, "the temporary file was replaced while it was written", temporary
+            )
         os.replace(temporary, path)
     except BaseException:
         if os.path.lexists(temporary):

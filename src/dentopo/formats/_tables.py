@@ -448,11 +448,13 @@ def _restored(cell):
 def _delimited_writer(delimiter: str) -> Writer:
     def write(stream, header, rows, text):
         writer = csv.writer(stream, delimiter=delimiter, lineterminator="\n")
+        # csv quotes a cell holding a line terminator only: with "\n" a bare "\r" would end
+        # the row when read back; a row with one is written by a writer that quotes it
+        crlf = csv.writer(stream, delimiter=delimiter, lineterminator="\r\n")
         writer.writerow(header)
-        writer.writerows(
-            [_neutralised(cell) if isinstance(cell, str) else text(cell) for cell in row]
-            for row in rows
-        )
+        for row in rows:
+            line = [_neutralised(cell) if isinstance(cell, str) else text(cell) for cell in row]
+            (crlf if any("\r" in cell for cell in line) else writer).writerow(line)
 
     return write
 
