@@ -8,6 +8,11 @@ Security Policy (``default-src 'none'``) makes the browser refuse any request
 it might try.  Drag to rotate (all panels turn together), wheel to zoom,
 double-click to reset.  Opening the page with ``#canvas2d`` appended to
 its address forces the 2D-canvas fallback.  numpy only.
+
+Names and captions are text: the JSON blocks escape ``<``, ``>`` and ``&``
+(:func:`._provenance.html_json`), the viewer sets them as ``textContent``, and
+the page is filled in one pass (:func:`fill`), so that a name holding
+``%DATA%`` stays as it is.
 """
 
 from __future__ import annotations

@@ -16,6 +16,14 @@ WebGL plots (the scatter matrix) compile their drawing code at run time, and
 without it they show "WebGL is not supported" instead.  A small status
 element records for checks that the scripts ran (``data-ready``), how many
 thumbnails decoded, and any error reported to the console or left uncaught.
+
+Names are text wherever they appear: HTML-escaped in the table and lists, in
+the JSON block with ``<``, ``>`` and ``&`` escaped
+(:func:`dentopo.figures._provenance.html_json`: a mesh named
+``<!--<script>x.ply`` cannot keep the block open), and given to plotly (which
+reads some HTML in its texts: links, bold, line breaks) with ``&``, ``<`` and
+``>`` as entities, so that a group named ``<a href=...>`` is drawn as those
+characters, not as a link.
 """
 
 from __future__ import annotations
