@@ -44,6 +44,7 @@ from ..formats import (
     FORMATS,
     LAYOUTS,
     PER_VERTEX_FORMATS,
+    NotAJournalError,
     PerVertexOptions,
     layout,
     read_table,
@@ -801,6 +802,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
             return 2
         try:
             output.recover()
+        except NotAJournalError as exc:  # not a killed run's rows: say what it is
+            _say(str(exc))
+            return 2
         except (OSError, ValueError) as exc:
             _say(f"cannot add the rows of an earlier run kept in {output.journal_path!r}: {exc}")
             return 2
@@ -829,6 +833,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
     if output is not None and todo:
         try:
             output.start_journal()
+        except NotAJournalError as exc:  # planted since it was checked
+            _say(str(exc))
+            return 2
         except OSError as exc:
             _say(f"cannot write {output.journal_path!r}: {exc}")
             return 2
