@@ -4,7 +4,9 @@ Classic DNE with its convex/concave split (``_classic_dne``, molaR's ``DNE``);
 mean surface slope (``_slope``, molaR's ``Slope``); orientation patch count and
 its rotated mean (``_opc``, molaR's ``OPC`` and ``OPCr``); the relief index with
 its alpha-shape footprint and molaR's search for an alpha (``_rfi``, molaR's
-``RFI``).  They share molaR's surface preparation (``_surface``) and the
+``RFI``); doolkit 1.42.2's footprint area, concave or convex (``_footprint``,
+doolkit's ``area2d``, its concave hull a port of mapbox's concaveman in
+``_concaveman``).  They share molaR's surface preparation (``_surface``) and the
 orientation check of the metrics that assume the crown points to +z
 (``_orientation``) and the checks of their parameters (``_parameters``);
 ``_metrics`` names them all, ariaDNE included, for a batch.  Their per-face
@@ -17,6 +19,14 @@ study or cli.
 """
 
 from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
+from ._footprint import (
+    FOOTPRINT_FIELDS,
+    HULLS,
+    FootprintResult,
+    concave_hull,
+    convex_hull,
+    footprint_area,
+)
 from ._metrics import (
     ALL,
     BIN_KEYS,
@@ -39,6 +49,8 @@ __all__ = [
     "BIN_KEYS",
     "CLASSIC_FIELDS",
     "CLASSIC_KEYS",
+    "FOOTPRINT_FIELDS",
+    "HULLS",
     "METRICS",
     "OPC_FIELDS",
     "ORIENTED",
@@ -47,6 +59,7 @@ __all__ = [
     "SLOPE_FIELDS",
     "AlphaAdjustmentError",
     "ClassicDNEResult",
+    "FootprintResult",
     "OPCRResult",
     "OPCResult",
     "Orientation",
@@ -60,7 +73,10 @@ __all__ = [
     "check_metrics",
     "check_orient",
     "classic_dne",
+    "concave_hull",
+    "convex_hull",
     "find_orientation",
+    "footprint_area",
     "molar_face_areas",
     "molar_scale",
     "opc",

@@ -345,6 +345,12 @@ def _stable_xy_order(fx, fy):
 
 
 @njit(cache=True)
+def fast_convex_hull(p):
+    """concaveman's convex hull of the points (n >= 1): point indices, not closed."""
+    return _fast_convex_hull(p)
+
+
+@njit(cache=True)
 def _fast_convex_hull(p):
     n = p.shape[0]
     left = 0
