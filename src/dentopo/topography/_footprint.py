@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._jit import njit
 from . import _concaveman
 from ._orientation import Orientation, check_orient
 from ._surface import prepare_surface
@@ -130,38 +131,50 @@ def json_digits(values: np.ndarray, digits: int = JSON_DIGITS) -> np.ndarray:
     ``JSON.parse``), which is ``(whole * 10**digits + frac) / 10**digits``
     computed in double precision (both exact, the quotient correctly rounded).
     """
-    if not (isinstance(digits, int) and 0 < digits < 10):
+    if isinstance(digits, bool) or not isinstance(digits, int) or not 0 < digits < 10:
         raise ValueError(f"digits must be an integer from 1 to 9; got {digits!r}")
-    v = np.asarray(values, dtype=np.float64)
+    v = np.ascontiguousarray(values, dtype=np.float64)
     out = np.empty_like(v)
-    a = np.abs(v)
-    mid = (a > 1e-5) & (a < 2147483647.0)
-    scale = float(10**digits)
-    am = a[mid]
-    whole = np.trunc(am)
-    t = (am - whole) * scale
-    frac = np.floor(t)
-    diff = t - frac
-    up = diff > 0.5
-    half = (diff == 0.5) & ((frac == 0.0) | (np.fmod(frac, 2.0) == 1.0))
-    frac = frac + (up | half)
-    carry = up & (frac >= scale)
-    whole = whole + carry
-    frac = np.where(carry, 0.0, frac)
-    value = (whole * scale + frac) / scale
-    quirk = frac >= scale  # a half-way 9...9 + 1 without the carry: written "whole.1"
-    value = np.where(quirk, (whole * 10.0 + 1.0) / 10.0, value)
-    out[mid] = np.copysign(value, v[mid])
-    for i in np.flatnonzero(~mid).tolist():
+    special = _json_digits(v.ravel(), float(10**digits), out.ravel())
+    for i in np.flatnonzero(special).tolist():  # sprintf("%.*g"): tiny, huge or zero
         x = float(v.flat[i])
+        if not math.isfinite(x):
+            raise ValueError("coordinates must be finite")
         if x == 0.0:
             out.flat[i] = x
             continue
-        if not math.isfinite(x):
-            raise ValueError("coordinates must be finite")
         width = math.ceil(min(17.0, max(1.0, math.log10(abs(x))) + digits))
         out.flat[i] = float(f"{x:.{width}g}")
     return out
+
+
+@njit(cache=True)
+def _json_digits(v, scale, out):
+    """modp_dtoa2's rounding of v into out (see json_digits); True where sprintf writes instead."""
+    special = np.zeros(v.shape[0], dtype=np.bool_)
+    for i in range(v.shape[0]):
+        x = v[i]
+        a = abs(x)
+        if not (a > 1e-5 and a < 2147483647.0):
+            special[i] = True
+            continue
+        whole = math.trunc(a)
+        t = (a - whole) * scale
+        frac = math.floor(t)
+        diff = t - frac
+        if diff > 0.5:
+            frac += 1.0
+            if frac >= scale:
+                frac = 0.0
+                whole += 1.0
+        elif diff == 0.5 and (frac == 0.0 or frac % 2.0 == 1.0):
+            frac += 1.0
+        if frac >= scale:  # a half-way 9...9 plus 1, not carried: written "whole.1"
+            value = (whole * 10.0 + 1.0) / 10.0
+        else:
+            value = (whole * scale + frac) / scale
+        out[i] = -value if x < 0.0 else value
+    return special
 
 
 def shoelace(ring: np.ndarray) -> float:
