@@ -220,7 +220,7 @@ _ERRBOUND3 = (3.0 + 16.0 * _EPSILON) * _EPSILON
 _SPLITTER = 134217729.0  # 2**27 + 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _two_product(a, b):
     x = a * b
     c = _SPLITTER * a
@@ -327,20 +327,40 @@ def _in_quad(x, y, qx, qy):
 
 
 @njit(cache=True)
+def _before(fx, fy, i, j):
+    """(x, y, index) of i before that of j."""
+    if fx[i] != fx[j]:
+        return fx[i] < fx[j]
+    if fy[i] != fy[j]:
+        return fy[i] < fy[j]
+    return i < j
+
+
+@njit(cache=True)
 def _stable_xy_order(fx, fy):
-    """Indices sorted by x, then y, then index: what a stable sort by (x, y) gives."""
-    order = np.argsort(fx)
-    n = order.shape[0]
-    start = 0
-    while start < n:
-        stop = start + 1
-        while stop < n and fx[order[stop]] == fx[order[start]]:
-            stop += 1
-        if stop - start > 1:  # a run of equal x: by y, then by index
-            run = np.sort(order[start:stop])
-            ys = fy[run]
-            order[start:stop] = run[np.argsort(ys, kind="mergesort")]
-        start = stop
+    """Indices sorted by x, then y, then index: what a stable sort by (x, y) gives.
+
+    A bottom-up merge sort (the keys are distinct, so any correct sort agrees).
+    """
+    n = fx.shape[0]
+    order = np.arange(n)
+    work = np.empty(n, dtype=np.int64)
+    width = 1
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid = min(lo + width, n)
+            hi = min(lo + 2 * width, n)
+            i = lo
+            j = mid
+            for k in range(lo, hi):
+                if i < mid and (j >= hi or not _before(fx, fy, order[j], order[i])):
+                    work[k] = order[i]
+                    i += 1
+                else:
+                    work[k] = order[j]
+                    j += 1
+        order, work = work, order
+        width *= 2
     return order
 
 
@@ -646,10 +666,11 @@ def _load(points, ibox):
     ykey = points[:, 1].copy()
     stack = np.empty(4 * 64 + 8, dtype=np.int64)
     frames = np.empty((3, 64), dtype=np.int64)
-    t_node = np.empty(1024, dtype=np.int64)
-    t_left = np.empty(1024, dtype=np.int64)
-    t_right = np.empty(1024, dtype=np.int64)
-    t_height = np.empty(1024, dtype=np.int64)
+    # pending nodes: at most 16 children a level wait (and rbush's trees are shallow)
+    t_node = np.empty(_WIDTH * 64, dtype=np.int64)
+    t_left = np.empty(_WIDTH * 64, dtype=np.int64)
+    t_right = np.empty(_WIDTH * 64, dtype=np.int64)
+    t_height = np.empty(_WIDTH * 64, dtype=np.int64)
     t_node[0] = root
     t_left[0] = 0
     t_right[0] = n - 1
@@ -688,11 +709,6 @@ def _load(points, ibox):
                 ch[node, cnt[node]] = child
                 cnt[node] += 1
                 par[child] = node
-                if top == t_node.shape[0]:
-                    t_node = np.concatenate((t_node, t_node))
-                    t_left = np.concatenate((t_left, t_left))
-                    t_right = np.concatenate((t_right, t_right))
-                    t_height = np.concatenate((t_height, t_height))
                 t_node[top] = child
                 t_left[top] = j
                 t_right[top] = right3
@@ -923,7 +939,7 @@ def _sq_dist(x0, y0, x1, y1):
     return dx * dx + dy * dy
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _update_box(p, node_p, nxt, s_box, node):
     i = node_p[node]
     j = node_p[nxt[node]]
@@ -937,7 +953,7 @@ def _update_box(p, node_p, nxt, s_box, node):
 # concaveman's distances
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sq_seg_dist(px, py, x, y, x2, y2):
     """Squared distance from (px, py) to the segment (x, y)-(x2, y2)."""
     dx = x2 - x
