@@ -79,6 +79,10 @@ from .._jit import njit
 MAX_ENTRIES = 16
 #: rbush's minimum fill, ``max(2, ceil(16 * 0.4))``.
 MIN_ENTRIES = 7
+#: Helpers that only read and write arrays they are given are compiled without numba's
+#: reference counting (``_nrt=False``): each array argument would otherwise cost two atomic
+#: updates a call, which made up most of the time of the tree operations.
+
 #: A node holds one child more than MAX_ENTRIES just before it is split.
 _WIDTH = MAX_ENTRIES + 1
 
@@ -237,7 +241,7 @@ def _two_product(a, b):
     return alo * blo - err3, x
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _grow(e, n, b):
     """Add b to the nonoverlapping expansion e[:n] (increasing magnitude), exactly."""
     q = b
@@ -326,7 +330,7 @@ def _in_quad(x, y, qx, qy):
     return inside
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _before(fx, fy, i, j):
     """(x, y, index) of i before that of j."""
     if fx[i] != fx[j]:
@@ -464,7 +468,7 @@ def _new_tree(capacity, items):
     return ch, cnt, leaf, hgt, bb, par, where, meta
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _alloc(cnt, leaf, hgt, bb, par, meta):
     node = meta[1]
     meta[1] += 1
@@ -501,7 +505,7 @@ def _grow_tree(ch, cnt, leaf, hgt, bb, par, meta, need):
     return ch2, cnt2, leaf2, hgt2, bb2, par2
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _calc_bbox(ch, cnt, leaf, bb, ibox, node):
     src = ibox if leaf[node] else bb  # the children's boxes
     x0 = _INF
@@ -520,7 +524,7 @@ def _calc_bbox(ch, cnt, leaf, bb, ibox, node):
     bb[node, 3] = y1
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _quickselect(items, key, k, left, right, frames):
     """quickselect (Floyd-Rivest) of items[left:right + 1] by key[item], as rbush's.
 
@@ -592,7 +596,7 @@ def _quickselect(items, key, k, left, right, frames):
         fr[depth] = right
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _multi_select(items, left, right, n, key, stack, frames):
     """rbush's multiSelect: groups of n, sorted between groups; `stack`, `frames` are scratch."""
     top = 0
@@ -719,7 +723,7 @@ def _load(points, ibox):
     return tree
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _remove(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, item):
     """rbush's ``remove``: drop the item from its leaf, then condense the path to the root."""
     node = where[item]
@@ -754,7 +758,7 @@ def _remove(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, item):
         node = parent
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _dist_bbox(ch, leaf, bb, ibox, node, k, p, out):
     src = ibox if leaf[node] else bb
     out[0] = _INF
@@ -769,7 +773,7 @@ def _dist_bbox(ch, leaf, bb, ibox, node, k, p, out):
         out[3] = max(out[3], src[c, 3])
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _sort_children(ch, cnt, leaf, bb, ibox, node, axis):
     """Stable sort of a node's children by their box's min x (axis 0) or min y (axis 1)."""
     src = ibox if leaf[node] else bb
@@ -787,7 +791,7 @@ def _sort_children(ch, cnt, leaf, bb, ibox, node, axis):
         ch[node, j] = c
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, axis, lbox, rbox):
     _sort_children(ch, cnt, leaf, bb, ibox, node, axis)
     _dist_bbox(ch, leaf, bb, ibox, node, 0, m, lbox)
@@ -811,7 +815,7 @@ def _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, axis, lbox, rbox):
     return margin
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _split(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, path, level, lbox, rbox):
     node = path[level]
     big_m = cnt[node]
@@ -872,7 +876,7 @@ def _split(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, path, level, lbox, rb
         meta[0] = root
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _insert(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, item, path, lbox, rbox):
     """rbush's ``insert`` of an item at the leaf level (the tree must have room for its splits)."""
     root = meta[0]
@@ -939,7 +943,7 @@ def _sq_dist(x0, y0, x1, y1):
     return dx * dx + dy * dy
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _update_box(p, node_p, nxt, s_box, node):
     i = node_p[node]
     j = node_p[nxt[node]]
