@@ -101,10 +101,35 @@ def unique_xy(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     (``-0.0`` equals ``0.0``), as R's ``unique`` on the coordinate rows.
     """
     xy = np.ascontiguousarray(vertices[:, :2], dtype=np.float64) + 0.0  # -0.0 -> 0.0
-    keys = xy.view(np.complex128).ravel()  # compared as (x, y) pairs
-    _, first = np.unique(keys, return_index=True)  # the first of each (a stable sort)
-    first.sort()
+    bits = xy.view(np.int64)  # equal bits <=> equal values (finite, no -0.0)
+    first = _first_of_each(np.ascontiguousarray(bits[:, 0]), np.ascontiguousarray(bits[:, 1]))
     return xy[first], first
+
+
+@njit(cache=True)
+def _first_of_each(xb, yb):
+    """Indices of the first occurrence of each (xb, yb) pair, in order (a hash table)."""
+    n = xb.shape[0]
+    size = 1
+    while size < 2 * n:
+        size *= 2
+    table = np.full(size, -1, dtype=np.int64)
+    keep = np.empty(n, dtype=np.int64)
+    kept = 0
+    for i in range(n):
+        h = (xb[i] * -7046029254386353131) ^ (yb[i] * -4417276706812531889)
+        slot = (h ^ (h >> 29)) & (size - 1)
+        while True:
+            j = table[slot]
+            if j < 0:
+                table[slot] = i
+                keep[kept] = i
+                kept += 1
+                break
+            if xb[j] == xb[i] and yb[j] == yb[i]:
+                break
+            slot = (slot + 1) & (size - 1)
+    return keep[:kept].copy()
 
 
 def json_digits(values: np.ndarray, digits: int = JSON_DIGITS) -> np.ndarray:
@@ -156,9 +181,12 @@ def _json_digits(v, scale, out):
         x = v[i]
         a = abs(x)
         if not (a > 1e-5 and a < 2147483647.0):
-            special[i] = True
+            if x == 0.0:
+                out[i] = x  # written "0" (or "-0")
+            else:
+                special[i] = True
             continue
-        whole = math.trunc(a)
+        whole = float(int(a))  # a < 2**31
         t = (a - whole) * scale
         frac = math.floor(t)
         diff = t - frac
@@ -167,7 +195,7 @@ def _json_digits(v, scale, out):
             if frac >= scale:
                 frac = 0.0
                 whole += 1.0
-        elif diff == 0.5 and (frac == 0.0 or frac % 2.0 == 1.0):
+        elif diff == 0.5 and (frac == 0.0 or int(frac) & 1 == 1):
             frac += 1.0
         if frac >= scale:  # a half-way 9...9 plus 1, not carried: written "whole.1"
             value = (whole * 10.0 + 1.0) / 10.0
@@ -350,7 +378,7 @@ def footprint_area(mesh, *, hull: str = "concave", orient: str = "as-is") -> Foo
 
 
 def _footprint(surface, hull: str) -> FootprintResult:
-    xy, first = unique_xy(surface.vertices)
+    xy, first = surface._cached(("footprint", "xy"), lambda: unique_xy(surface.vertices))
     if hull == "concave":
         rounded = json_digits(xy - xy.min(axis=0))
         ring = _concaveman.concaveman_ring(rounded, 2.0, 0.0)[:-1]
