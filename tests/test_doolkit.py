@@ -433,7 +433,7 @@ def test_r_round():
         (lambda m: inclination(m, orient=None), ValueError),
         (lambda m: elevation(m, orient="down"), ValueError),
         (lambda m: relief_index(m, hull="alpha"), ValueError),
-        (lambda m: relief_index(m, hull=3), ValueError),
+        (lambda m: relief_index(m, hull=3), TypeError),
         (lambda m: footprint_area(m, hull="round"), ValueError),
         (lambda m: relief_rate_below_median(m, orient=1), ValueError),
         (lambda m: doolkit_slope("no/such/file.ply"), (FileNotFoundError, ValueError)),

@@ -17,13 +17,22 @@ from conftest import MESHES, REFERENCE, ROBUSTNESS_SET, shared_mesh
 from dentopo.topography import (
     HULLS,
     FootprintResult,
+    _concaveman,
     concave_hull,
     convex_hull,
     footprint_area,
     prepare_surface,
 )
-from dentopo.topography._concaveman import concaveman_ring, js_exp, js_log
+from dentopo.topography._concaveman import js_exp, js_log
 from dentopo.topography._footprint import json_digits, shoelace, unique_xy
+
+
+def concaveman_ring(points, concavity, length_threshold):
+    """The compiled concaveman's closed ring (its first index repeated at the end)."""
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    out = np.empty(len(points) + 1, dtype=np.int64)
+    return out[: _concaveman.concaveman_ring(points, concavity, length_threshold, out)]
+
 
 PARITY = 1e-9
 

@@ -47,8 +47,9 @@ for j = 1:numel(names)
   end
   empty = cellfun(@isempty, cells);
   numbers = str2double(cells);
-  is_text = any(strcmp(names{j}, {'file', 'File', 'status', 'error', ...
-                                  'distance_type', 'sign_method', 'method'}));
+  is_text = any(strcmp(names{j}, {'file', 'File', 'status', 'error', 'warnings', ...
+                                  'distance_type', 'sign_method', 'method', ...
+                                  'orientation', 'orient'}));
   if ~is_text && all(~isnan(numbers(~empty)) | strcmpi(cells(~empty), 'nan'))
     numbers(empty) = NaN;
     columns{j} = num2cell(numbers);

@@ -369,9 +369,15 @@ def _stable_xy_order(fx, fy):
 
 
 @njit(cache=True)
-def fast_convex_hull(p):
-    """concaveman's convex hull of the points (n >= 1): point indices, not closed."""
-    return _fast_convex_hull(p)
+def fast_convex_hull(p, out):
+    """concaveman's convex hull of the points (n >= 1) into `out` ((n,) int64): its length.
+
+    Point indices, not closed.  (A kernel called from Python returns no array:
+    numba's boxing of a returned array is where Ctrl-C crashed.)
+    """
+    hull = _fast_convex_hull(p)
+    out[: hull.shape[0]] = hull
+    return hull.shape[0]
 
 
 @njit(cache=True)
@@ -1072,7 +1078,15 @@ def _crosses(x1, y1, x2, y2, x3, y3, x4, y4):
 
 
 @njit(cache=True)
-def concaveman_ring(points, concavity, length_threshold):
+def concaveman_ring(points, concavity, length_threshold, out):
+    """:func:`_concaveman_ring` into `out` ((n + 1,) int64): the ring's length."""
+    ring = _concaveman_ring(points, concavity, length_threshold)
+    out[: ring.shape[0]] = ring
+    return ring.shape[0]
+
+
+@njit(cache=True)
+def _concaveman_ring(points, concavity, length_threshold):
     """concaveman(points, concavity, lengthThreshold) as point indices, closed.
 
     `points` (n, 2) float64, n >= 1, finite.  Returns the ring the JavaScript

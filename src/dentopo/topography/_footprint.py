@@ -102,19 +102,21 @@ def unique_xy(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     xy = np.ascontiguousarray(vertices[:, :2], dtype=np.float64) + 0.0  # -0.0 -> 0.0
     bits = xy.view(np.int64)  # equal bits <=> equal values (finite, no -0.0)
-    first = _first_of_each(np.ascontiguousarray(bits[:, 0]), np.ascontiguousarray(bits[:, 1]))
+    keep = np.empty(len(xy), dtype=np.int64)
+    kept = _first_of_each(np.ascontiguousarray(bits[:, 0]), np.ascontiguousarray(bits[:, 1]), keep)
+    first = keep[:kept].copy()
     return xy[first], first
 
 
 @njit(cache=True)
-def _first_of_each(xb, yb):
-    """Indices of the first occurrence of each (xb, yb) pair, in order (a hash table)."""
+def _first_of_each(xb, yb, keep):
+    """Indices of the first occurrence of each (xb, yb) pair, in order, into `keep` (a hash
+    table): their count."""
     n = xb.shape[0]
     size = 1
     while size < 2 * n:
         size *= 2
     table = np.full(size, -1, dtype=np.int64)
-    keep = np.empty(n, dtype=np.int64)
     kept = 0
     for i in range(n):
         h = (xb[i] * -7046029254386353131) ^ (yb[i] * -4417276706812531889)
@@ -129,7 +131,7 @@ def _first_of_each(xb, yb):
             if xb[j] == xb[i] and yb[j] == yb[i]:
                 break
             slot = (slot + 1) & (size - 1)
-    return keep[:kept].copy()
+    return kept
 
 
 def json_digits(values: np.ndarray, digits: int = JSON_DIGITS) -> np.ndarray:
@@ -160,7 +162,8 @@ def json_digits(values: np.ndarray, digits: int = JSON_DIGITS) -> np.ndarray:
         raise ValueError(f"digits must be an integer from 1 to 9; got {digits!r}")
     v = np.ascontiguousarray(values, dtype=np.float64)
     out = np.empty_like(v)
-    special = _json_digits(v.ravel(), float(10**digits), out.ravel())
+    special = np.zeros(v.size, dtype=np.bool_)
+    _json_digits(v.ravel(), float(10**digits), out.ravel(), special)
     for i in np.flatnonzero(special).tolist():  # sprintf("%.*g"): tiny, huge or zero
         x = float(v.flat[i])
         if not math.isfinite(x):
@@ -174,9 +177,9 @@ def json_digits(values: np.ndarray, digits: int = JSON_DIGITS) -> np.ndarray:
 
 
 @njit(cache=True)
-def _json_digits(v, scale, out):
-    """modp_dtoa2's rounding of v into out (see json_digits); True where sprintf writes instead."""
-    special = np.zeros(v.shape[0], dtype=np.bool_)
+def _json_digits(v, scale, out, special):
+    """modp_dtoa2's rounding of v into out (see json_digits); `special` True where sprintf
+    writes instead."""
     for i in range(v.shape[0]):
         x = v[i]
         a = abs(x)
@@ -202,7 +205,6 @@ def _json_digits(v, scale, out):
         else:
             value = (whole * scale + frac) / scale
         out[i] = -value if x < 0.0 else value
-    return special
 
 
 def shoelace(ring: np.ndarray) -> float:
@@ -289,7 +291,7 @@ def concave_hull(points, *, concavity: float = 2.0, length_threshold: float = 0.
     p = _check_points(points)
     concavity = _check_nonnegative("concavity", concavity)
     length_threshold = _check_nonnegative("length_threshold", length_threshold)
-    return _concaveman.concaveman_ring(p, concavity, length_threshold)[:-1].copy()
+    return _concave_ring(p, concavity, length_threshold)
 
 
 def convex_hull(points) -> np.ndarray:
@@ -302,8 +304,16 @@ def convex_hull(points) -> np.ndarray:
     return _convex_ring(_check_points(points))
 
 
+def _concave_ring(p: np.ndarray, concavity: float, length_threshold: float) -> np.ndarray:
+    """concaveman's ring as indices into `p`, not closed (the JavaScript repeats its first)."""
+    out = np.empty(len(p) + 1, dtype=np.int64)
+    size = _concaveman.concaveman_ring(p, concavity, length_threshold, out)
+    return out[: size - 1].copy()
+
+
 def _convex_ring(p: np.ndarray) -> np.ndarray:
-    ring = _concaveman.fast_convex_hull(p)
+    out = np.empty(len(p), dtype=np.int64)
+    ring = out[: _concaveman.fast_convex_hull(p, out)]
     # a point can come twice only when all points coincide: keep it once
     keep = ring != np.roll(ring, 1)
     keep[0] = True
@@ -381,7 +391,7 @@ def _footprint(surface, hull: str) -> FootprintResult:
     xy, first = surface._cached(("footprint", "xy"), lambda: unique_xy(surface.vertices))
     if hull == "concave":
         rounded = json_digits(xy - xy.min(axis=0))
-        ring = _concaveman.concaveman_ring(rounded, 2.0, 0.0)[:-1]
+        ring = _concave_ring(rounded, 2.0, 0.0)
         area = shoelace(rounded[ring])
     else:
         ring = _convex_ring(xy)
