@@ -58,3 +58,8 @@ def failure_reason(
     if own_message(exc):
         return reason(exc)
     return internal_error(step, exc)
+
+
+def names_step(reason: str, step: str) -> bool:
+    """Whether `reason` (from :func:`failure_reason`) already names `step`."""
+    return reason.startswith(f"internal error in {step}:") or reason == f"out of memory in {step}"

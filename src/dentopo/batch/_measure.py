@@ -35,7 +35,7 @@ from ..topography import (
     rotations,
     slope,
 )
-from ._errors import failure_reason
+from ._errors import failure_reason, names_step
 
 
 @dataclass(frozen=True)
@@ -137,7 +137,7 @@ class Measurement:
         if len(self.metrics) == 1:
             return next(iter(self.errors.values()))
         return "; ".join(
-            reason if reason.startswith(f"internal error in {metric}:") else f"{metric}: {reason}"
+            reason if names_step(reason, metric) else f"{metric}: {reason}"
             for metric, reason in self.errors.items()
         )
 
