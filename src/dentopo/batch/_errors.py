@@ -48,13 +48,14 @@ def failure_reason(
     """The ``error`` text for `exc`, raised while doing `step` (a metric's name, "reading" ...).
 
     Our own ``ValueError`` and ``TypeError`` (and a missing extra, an
-    ``OSError`` of reading) go through `reason`; ``MemoryError`` is ``out of
+    ``OSError`` of reading, a ``NotImplementedError`` naming what is not
+    implemented) go through `reason`; ``MemoryError`` is ``out of
     memory in STEP``; anything else is an :func:`internal_error`.
     """
     if isinstance(exc, MemoryError):
         return f"out of memory in {step}"
-    if isinstance(exc, (MissingExtraError, OSError)):
-        return reason(exc)
+    if isinstance(exc, (MissingExtraError, OSError, NotImplementedError)):
+        return reason(exc)  # a missing extra, a file, an option not implemented: not a defect
     if own_message(exc):
         return reason(exc)
     return internal_error(step, exc)

@@ -15,24 +15,42 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 from ..ariadne import ariaDNE
-from ..formats import METRIC_KEYS, SETTING_KEYS
+from ..formats import DOOLKIT_NAMES, METRIC_KEYS, SETTING_KEYS
 from ..mesh import load_mesh
 from ..topography import (
     CLASSIC_KEYS,
+    DOOLKIT_BASE_KEYS,
+    DOOLKIT_METRICS,
     ORIENTED,
+    angularity,
+    arc,
     check_alpha,
+    check_arc_options,
+    check_classic_options,
     check_find_alpha,
     check_finite,
     check_int,
     check_metrics,
+    check_min_area,
     check_orient,
     classic_dne,
+    doolkit_arc,
+    doolkit_dne,
+    doolkit_opc,
+    doolkit_opcr,
+    doolkit_slope,
+    footprint_area,
+    hypsodonty,
+    inclination,
     opc,
     opcr,
     prepare_surface,
+    relief_index,
+    relief_rate_below_median,
     rfi,
     rotation_key,
     rotations,
+    shape_index,
     slope,
 )
 from ._errors import failure_reason, names_step
@@ -54,6 +72,20 @@ class TopographyOptions:
         OPCR's rotation step, degrees.
     min_faces : int
         OPC's smallest counted patch, in faces.
+    min_area : float
+        OPC's smallest counted patch as a fraction of the surface area
+        (molaR's ``minimum_area``; 0: count by `min_faces`).
+    dne_outliers : float
+        Classic DNE's outlier percentage (molaR's ``outliers``).
+    dne_boundary : str
+        Classic DNE's boundary rule (molaR's ``BoundaryDiscard``: ``"vertex"``,
+        ``"leg"`` or ``"none"``).
+    dne_kappa : float
+        Classic DNE's convex/concave threshold (molaR's ``kappa``).
+    arc_boundary : str
+        ARC's boundary rule (``"vertex"``, ``"leg"`` or ``"none"``).
+    arc_range : (float, float)
+        ARC's quantiles beyond which faces are zeroed (molaR's ``Range``).
     orient : str
         ``"as-is"`` (molaR's behaviour) or ``"auto"`` (a crown pointing to -z
         is turned before the metrics that assume +z).
@@ -64,6 +96,12 @@ class TopographyOptions:
     opcr_steps: int = 8
     opcr_step: float = 5.625
     min_faces: int = 3
+    min_area: float = 0.0
+    dne_outliers: float = 0.1
+    dne_boundary: str = "vertex"
+    dne_kappa: float = 0.0
+    arc_boundary: str = "vertex"
+    arc_range: tuple[float, float] = (0.01, 0.99)
     orient: str = "as-is"
 
     def __post_init__(self):
@@ -73,6 +111,16 @@ class TopographyOptions:
         object.__setattr__(self, "opcr_steps", check_int("opcr_steps", self.opcr_steps, low=1))
         object.__setattr__(self, "opcr_step", check_finite("opcr_step", self.opcr_step))
         object.__setattr__(self, "min_faces", check_int("min_faces", self.min_faces, low=0))
+        object.__setattr__(self, "min_area", check_min_area(self.min_area))
+        outliers, boundary, kappa = check_classic_options(
+            self.dne_outliers, self.dne_boundary, self.dne_kappa
+        )
+        object.__setattr__(self, "dne_outliers", outliers)
+        object.__setattr__(self, "dne_boundary", boundary)
+        object.__setattr__(self, "dne_kappa", kappa)
+        boundary, quantiles = check_arc_options(self.arc_boundary, self.arc_range)
+        object.__setattr__(self, "arc_boundary", boundary)
+        object.__setattr__(self, "arc_range", quantiles)
         object.__setattr__(self, "orient", check_orient(self.orient))
 
     def rotations(self) -> tuple[float, ...]:
@@ -87,6 +135,13 @@ class TopographyOptions:
             "opcr_steps": self.opcr_steps,
             "opcr_step": self.opcr_step,
             "min_faces": self.min_faces,
+            "min_area": self.min_area,
+            "dne_outliers": self.dne_outliers,
+            "dne_boundary": self.dne_boundary,
+            "dne_kappa": self.dne_kappa,
+            "arc_boundary": self.arc_boundary,
+            "arc_range_low": self.arc_range[0],
+            "arc_range_high": self.arc_range[1],
         }
         record = {}
         for metric in metrics:
@@ -143,10 +198,21 @@ class Measurement:
 
 
 def _values(metric: str, result) -> dict:
-    """The record values of one metric's result (classic DNE's under its prefixed keys)."""
+    """The record values of one metric's result (classic DNE's under its prefixed keys).
+
+    doolkit's metrics give their values under the names of doolkit's table,
+    which are the record keys except where molaR has the name (OPC, OPCR:
+    ``dk_`` keys, see :data:`dentopo.formats.DOOLKIT_NAMES`).
+    """
     if metric == "classic":
         return {key: getattr(result, name) for name, key in CLASSIC_KEYS.items()}
-    return result.to_dict()
+    if metric == "footprint":
+        concave, convex = result
+        return {"area2d": concave.area, "area2d_convex": convex.area}
+    values = result.to_dict()
+    if metric in DOOLKIT_METRICS:
+        return {key: values[DOOLKIT_NAMES.get(key, key)] for key in METRIC_KEYS[metric]}
+    return values
 
 
 def _prepared(mesh):
@@ -164,21 +230,69 @@ def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOption
         return ariaDNE(mesh, progress=progress, **ariadne_options)
     if isinstance(mesh, BaseException):  # every topography metric fails as it would alone
         raise mesh
-    if metric == "classic":
-        return classic_dne(mesh)
-    if metric == "rfi":
-        return rfi(mesh, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient)
-    if metric == "opcr":
-        return opcr(
-            mesh,
-            steps=options.opcr_steps,
-            step=options.opcr_step,
-            min_faces=options.min_faces,
-            orient=options.orient,
-        )
-    if metric == "opc":
-        return opc(mesh, min_faces=options.min_faces, orient=options.orient)
-    return slope(mesh, orient=options.orient)
+    return _TOPOGRAPHY[metric](mesh, options)
+
+
+def _opcr(surface, options: TopographyOptions):
+    return opcr(
+        surface,
+        steps=options.opcr_steps,
+        step=options.opcr_step,
+        min_faces=options.min_faces,
+        min_area=options.min_area,
+        orient=options.orient,
+    )
+
+
+#: ``compute(surface, options)`` of each topography metric.
+_TOPOGRAPHY = {
+    "classic": lambda surface, options: classic_dne(
+        surface,
+        outliers=options.dne_outliers,
+        boundary=options.dne_boundary,
+        kappa=options.dne_kappa,
+    ),
+    "rfi": lambda surface, options: rfi(
+        surface, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient
+    ),
+    "opcr": _opcr,
+    "opc": lambda surface, options: opc(
+        surface, min_faces=options.min_faces, min_area=options.min_area, orient=options.orient
+    ),
+    "slope": lambda surface, options: slope(surface, orient=options.orient),
+    "arc": lambda surface, options: arc(
+        surface, boundary=options.arc_boundary, range=options.arc_range
+    ),
+    "angularity": lambda surface, options: angularity(surface),
+    "doolkit_slope": lambda surface, options: doolkit_slope(surface),
+    "relief_index": lambda surface, options: relief_index(surface, orient=options.orient),
+    "inclination": lambda surface, options: inclination(surface, orient=options.orient),
+    "doolkit_opc": lambda surface, options: doolkit_opc(surface, orient=options.orient),
+    "doolkit_opcr": lambda surface, options: doolkit_opcr(surface, orient=options.orient),
+    "doolkit_arc": lambda surface, options: doolkit_arc(surface),
+    "doolkit_dne": lambda surface, options: doolkit_dne(surface),
+    "relief_rate": lambda surface, options: relief_rate_below_median(
+        surface, orient=options.orient
+    ),
+    "shape_index": lambda surface, options: shape_index(surface),
+    # doolkit's area2d (concave) and its convex counterpart
+    "footprint": lambda surface, options: (
+        footprint_area(surface, hull="concave"),
+        footprint_area(surface, hull="convex"),
+    ),
+    "hypsodonty": lambda surface, options: hypsodonty(surface),
+}
+
+
+def _doolkit_base(surface) -> dict:
+    """doolkit's first columns: the counts and 3D area of the mesh its metrics measured."""
+    if isinstance(surface, BaseException):
+        return dict.fromkeys(DOOLKIT_BASE_KEYS)
+    return {
+        "n_vertices": len(surface.vertices),
+        "n_faces": len(surface.faces),
+        "area3d": float(surface.single_precision_areas().sum()),
+    }
 
 
 def measure_mesh(
@@ -219,6 +333,8 @@ def measure_mesh(
     results: dict = {}
     errors: dict = {}
     for metric in metrics:
+        if metric in DOOLKIT_METRICS and "n_vertices" not in record:
+            record.update(_doolkit_base(surface))
         keys = METRIC_KEYS[metric]
         if metric != "ariadne" and progress is not None:
             progress(metric)

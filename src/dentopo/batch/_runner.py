@@ -214,6 +214,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
     finally:
         numba.set_num_threads(previous_threads)
     messages = tuple(dict.fromkeys(str(w.message) for w in caught))
+    record["warnings"] = "; ".join(messages) or None
     return Outcome(task.index, record, messages, measured if task.keep_result else None)
 
 
@@ -522,6 +523,12 @@ def make_settings(
     opcr_steps: int = 8,
     opcr_step: float = 5.625,
     min_faces: int = 3,
+    min_area: float = 0.0,
+    dne_outliers: float = 0.1,
+    dne_boundary: str = "vertex",
+    dne_kappa: float = 0.0,
+    arc_boundary: str = "vertex",
+    arc_range: tuple[float, float] = (0.01, 0.99),
     orient: str = "as-is",
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
@@ -552,6 +559,12 @@ def make_settings(
             opcr_steps=opcr_steps,
             opcr_step=opcr_step,
             min_faces=min_faces,
+            min_area=min_area,
+            dne_outliers=dne_outliers,
+            dne_boundary=dne_boundary,
+            dne_kappa=dne_kappa,
+            arc_boundary=arc_boundary,
+            arc_range=arc_range,
             orient=check_orient(orient),
         ),
     )
@@ -580,6 +593,12 @@ def compute_batch(
     opcr_steps: int = 8,
     opcr_step: float = 5.625,
     min_faces: int = 3,
+    min_area: float = 0.0,
+    dne_outliers: float = 0.1,
+    dne_boundary: str = "vertex",
+    dne_kappa: float = 0.0,
+    arc_boundary: str = "vertex",
+    arc_range: tuple[float, float] = (0.01, 0.99),
     orient: str = "as-is",
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
@@ -611,16 +630,24 @@ def compute_batch(
         file gets an error row listing its meshes; a file without a mesh of
         that name gets an error row too.  Rows are then not resumed.
     metrics : str or iterable of str, default ("ariadne",)
-        What each row holds: some of ``"ariadne"``, ``"classic"`` (classic
-        DNE), ``"rfi"``, ``"opcr"``, ``"opc"``, ``"slope"``, or ``"all"``
-        (:data:`dentopo.topography.METRICS`).  A metric that fails on a mesh
+        What each row holds: some of :data:`dentopo.topography.METRICS`
+        (``"ariadne"``, molaR's ``"classic"`` (classic DNE), ``"rfi"``,
+        ``"opcr"``, ``"opc"``, ``"slope"``, ``"arc"``, and doolkit's), molaR's
+        or doolkit's names for them in any case (``"DNE"``, ``"OPCr"``,
+        ``"inclin"`` ...), ``"molar"`` or ``"doolkit"`` for each tool's set, or
+        ``"all"``.  A metric that fails on a mesh
         leaves its cells empty and names its error; the row keeps the other
         metrics and has ``status="partial"``.
     alpha, find_alpha : float, bool
         As for :func:`dentopo.rfi`.
-    opcr_steps, opcr_step, min_faces : int, float, int
-        As for :func:`dentopo.opcr` (``steps``, ``step``, ``min_faces``) and
-        :func:`dentopo.opc`.
+    opcr_steps, opcr_step, min_faces, min_area : int, float, int, float
+        As for :func:`dentopo.opcr` (``steps``, ``step``, ``min_faces``,
+        ``min_area``) and :func:`dentopo.opc`.
+    dne_outliers, dne_boundary, dne_kappa : float, str, float
+        Classic DNE's ``outliers``, ``boundary`` and ``kappa``
+        (:func:`dentopo.topography.classic_dne`).
+    arc_boundary, arc_range : str, (float, float)
+        ARC's ``boundary`` and ``range`` (:func:`dentopo.topography.arc`).
     orient : {"as-is", "auto"}, default "as-is"
         ``"auto"`` turns a crown that points to -z before slope, OPC, OPCR and
         RFI (see :func:`dentopo.find_orientation`); ``"as-is"`` measures it
@@ -701,6 +728,12 @@ def compute_batch(
         opcr_steps=opcr_steps,
         opcr_step=opcr_step,
         min_faces=min_faces,
+        min_area=min_area,
+        dne_outliers=dne_outliers,
+        dne_boundary=dne_boundary,
+        dne_kappa=dne_kappa,
+        arc_boundary=arc_boundary,
+        arc_range=arc_range,
         orient=orient,
     )
     check_extras(settings, scheduler=scheduler)

@@ -57,7 +57,7 @@ from ..formats import (
 )
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
-from ..topography import METRICS, ORIENT_MODES
+from ..topography import BOUNDARY_RULES, GROUPS, METRICS, ORIENT_MODES
 from ._output import Planned, TableOutput, output_problem
 from ._progress import PROG, Progress
 from ._progress import say as _say
@@ -176,10 +176,12 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         action="append",
         metavar="NAMES",
         help="what each row holds, repeatable or comma-separated: "
-        f"{', '.join(METRICS)}, or all (default ariadne; with --columns molar, molaR_Batch's "
-        "classic,rfi,opcr,slope and ariadne)",
+        f"{', '.join(METRICS)}; molaR's and doolkit's names in any case (DNE, RFI, OPCr, "
+        f"inclin, rrate, shape.index ...); or a set: {', '.join(GROUPS)} (default ariadne; "
+        "with --columns molar, molaR_Batch's classic,rfi,opcr,slope and ariadne; with "
+        "--columns doolkit, doolkit)",
     )
-    topo = parser.add_argument_group("topography (molaR 6.0's definitions)")
+    topo = parser.add_argument_group("topography (molaR 6.0's and doolkit 1.42's definitions)")
     topo.add_argument(
         "--alpha", type=float, default=0.075, help="RFI's alpha (default 0.075, molaR's)"
     )
@@ -204,6 +206,51 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         default=3,
         metavar="N",
         help="OPC: patches of fewer faces are not counted (default 3)",
+    )
+    topo.add_argument(
+        "--min-area",
+        type=float,
+        default=0.0,
+        metavar="FRACTION",
+        help="OPC: count patches larger than this fraction of the surface area instead of by "
+        "--min-faces (default 0, molaR's minimum_area)",
+    )
+    topo.add_argument(
+        "--dne-outliers",
+        type=float,
+        default=0.1,
+        metavar="PERCENT",
+        help="classic DNE: the highest energies discarded, percent (default 0.1, molaR's)",
+    )
+    topo.add_argument(
+        "--dne-boundary",
+        type=str.lower,
+        choices=BOUNDARY_RULES,
+        default="vertex",
+        help="classic DNE: which boundary faces are discarded (default vertex, molaR's "
+        "BoundaryDiscard)",
+    )
+    topo.add_argument(
+        "--dne-kappa",
+        type=float,
+        default=0.0,
+        metavar="K",
+        help="classic DNE: the curvature threshold between concave and convex (default 0)",
+    )
+    topo.add_argument(
+        "--arc-boundary",
+        type=str.lower,
+        choices=BOUNDARY_RULES,
+        default="vertex",
+        help="ARC: which boundary faces are set to 0 (default vertex, molaR's BoundaryDiscard)",
+    )
+    topo.add_argument(
+        "--arc-range",
+        type=float,
+        nargs=2,
+        default=(0.01, 0.99),
+        metavar=("LOW", "HIGH"),
+        help="ARC: the quantiles beyond which faces are set to 0 (default 0.01 0.99, molaR's)",
     )
     topo.add_argument(
         "--orient",
@@ -245,8 +292,10 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         choices=tuple(LAYOUTS),
         default="dentopo",
         help="the table's columns: dentopo (default, every column), signdne (the published "
-        "signDNE CLI's File, DNE, positive_DNE, ...; failed files left out) or molar "
-        "(molaR_Batch's File, DNE, ..., Slope, then ariaDNE's, status and error)",
+        "signDNE CLI's File, DNE, positive_DNE, ...; failed files left out), molar "
+        "(molaR_Batch's File, DNE, ..., Slope, then ARC, ariaDNE's, status and error) or "
+        "doolkit (doolkit's file, n_vertices, n_faces, area3d, slope_mean, ..., hypso_width, "
+        "then status and error)",
     )
     out.add_argument(
         "--resume",
@@ -358,7 +407,9 @@ def _metrics(args) -> str:
     """The metrics asked for (``--metrics``, repeatable), or the default of the layout."""
     if args.metrics:
         return ",".join(args.metrics)
-    return ",".join(MOLAR_DEFAULT_METRICS) if args.columns == "molar" else "ariadne"
+    if args.columns == "molar":
+        return ",".join(MOLAR_DEFAULT_METRICS)
+    return "doolkit" if args.columns == "doolkit" else "ariadne"
 
 
 def _rendering_requested(args) -> bool:
@@ -587,6 +638,12 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             opcr_steps=args.opcr_steps,
             opcr_step=args.opcr_step,
             min_faces=args.min_faces,
+            min_area=args.min_area,
+            dne_outliers=args.dne_outliers,
+            dne_boundary=args.dne_boundary,
+            dne_kappa=args.dne_kappa,
+            arc_boundary=args.arc_boundary,
+            arc_range=tuple(args.arc_range),
             orient=args.orient,
         )
     except (TypeError, ValueError) as exc:

@@ -38,6 +38,7 @@ from ._per_vertex import (
 )
 from ._tables import (
     COLUMNS,
+    DOOLKIT_NAMES,
     FORMATS,
     LAYOUTS,
     METRIC_KEYS,
@@ -56,6 +57,7 @@ from ._tables import (
 __all__ = [
     "COLUMNS",
     "DEFAULT_PER_VERTEX_FORMATS",
+    "DOOLKIT_NAMES",
     "FACES_SUFFIX",
     "FORMATS",
     "JOURNAL_SUFFIX",

@@ -29,6 +29,10 @@ from ..ariadne import SCALAR_FIELDS
 from ..topography import (
     BIN_KEYS,
     CLASSIC_KEYS,
+    DOOLKIT_BASE_KEYS,
+    DOOLKIT_BIN_KEYS,
+    DOOLKIT_METRICS,
+    DOOLKIT_ROTATION_KEYS,
     METRICS,
     ORIENTED,
     check_metrics,
@@ -37,7 +41,7 @@ from ..topography import (
 from ._atomic import atomic_write
 
 #: Columns of a results table of ariaDNE (the default metric), in order, with the library's names.
-COLUMNS = ("file", *SCALAR_FIELDS, "seconds", "status", "error")
+COLUMNS = ("file", *SCALAR_FIELDS, "seconds", "status", "error", "warnings")
 
 #: The record keys each metric fills, in table order (OPCR also fills one key per rotation,
 #: :func:`~dentopo.topography.rotation_key`, right after ``opcr``).
@@ -48,22 +52,64 @@ METRIC_KEYS = {
     "opcr": ("opcr",),
     "opc": ("opc", *BIN_KEYS),
     "slope": ("slope",),
+    "arc": ("arc", "arc_positive", "arc_negative"),
+    # doolkit's, under the names of doolkit's table (prefixed dk_ where molaR has the name)
+    "doolkit_slope": ("slope_mean",),
+    "angularity": ("angularity_mean",),
+    "relief_index": ("rfi_ungar", "rfi_boyer", "rfi_guy"),
+    "inclination": ("inclin_mean",),
+    "doolkit_opc": ("dk_opc", *DOOLKIT_BIN_KEYS),
+    "doolkit_opcr": ("dk_opcr", *DOOLKIT_ROTATION_KEYS),
+    "doolkit_arc": ("arc_mean", "arc_pos_mean", "arc_neg_mean"),
+    "doolkit_dne": ("dne_total", "dne_total_unrounded"),
+    "relief_rate": ("rrate_below_median",),
+    "shape_index": ("shape_formfactor", "shape_elongation", "shape_k"),
+    "footprint": ("area2d", "area2d_convex"),
+    "hypsodonty": ("hypso_hypsodonty", "hypso_height", "hypso_length", "hypso_width"),
 }
 #: Settings columns of the topography metrics (ariaDNE's are among its own keys).
 SETTING_KEYS = {
+    "classic": ("dne_outliers", "dne_boundary", "dne_kappa"),
     "rfi": ("rfi_alpha", "find_alpha"),
-    "opcr": ("opcr_steps", "opcr_step", "min_faces"),
-    "opc": ("min_faces",),
+    "opcr": ("opcr_steps", "opcr_step", "min_faces", "min_area"),
+    "opc": ("min_faces", "min_area"),
+    "arc": ("arc_boundary", "arc_range_low", "arc_range_high"),
 }
 #: Columns of the metrics that assume the crown points to +z: what was found and done, and
 #: the ``orient`` setting.
 ORIENTATION_KEYS = ("orientation", "orient")
-#: Columns that end every row.
-END_KEYS = ("seconds", "status", "error")
+#: Columns that end every row (``warnings``: what the computation warned about, if anything).
+END_KEYS = ("seconds", "status", "error", "warnings")
 
-_INTEGER_COLUMNS = frozenset({"vertices", "faces", "opc", *BIN_KEYS, "opcr_steps", "min_faces"})
+_INTEGER_COLUMNS = frozenset(
+    {
+        "vertices",
+        "faces",
+        "opc",
+        *BIN_KEYS,
+        "opcr_steps",
+        "min_faces",
+        "n_vertices",
+        "n_faces",
+        "dk_opc",
+        *DOOLKIT_BIN_KEYS,
+        *DOOLKIT_ROTATION_KEYS,
+    }
+)
 _TEXT_COLUMNS = frozenset(
-    {"file", "distance_type", "sign_method", "method", "status", "error", "orientation", "orient"}
+    {
+        "file",
+        "distance_type",
+        "sign_method",
+        "method",
+        "status",
+        "error",
+        "warnings",
+        "orientation",
+        "orient",
+        "dne_boundary",
+        "arc_boundary",
+    }
 )
 _BOOL_COLUMNS = frozenset({"find_alpha"})
 _ROTATION = re.compile(r"opc_(-?[0-9.]+(?:e[-+]?[0-9]+)?)$")
@@ -79,6 +125,8 @@ def record_keys(metrics=("ariadne",), rotations: Sequence[float] = ()) -> tuple[
     metrics = check_metrics(metrics)
     keys = ["file"]
     for metric in metrics:
+        if metric in DOOLKIT_METRICS:
+            keys += DOOLKIT_BASE_KEYS  # once, before the first of doolkit's metrics
         keys += METRIC_KEYS[metric]
         if metric == "opcr":
             keys += [rotation_key(degrees) for degrees in rotations]
@@ -290,6 +338,8 @@ MOLAR_NAMES = {
     "opcr": {"opcr": "OPCR"},
     "opc": {"opc": "OPC", **{key: f"Bin {k}" for k, key in enumerate(BIN_KEYS, start=1)}},
     "slope": {"slope": "Slope"},
+    # molaR_Batch has no ARC column: ours, after molaR's own, under molaR's function's names
+    "arc": {"arc": "ARC", "arc_positive": "ARC_positive", "arc_negative": "ARC_negative"},
 }
 #: ariaDNE's columns after molaR's, under names that cannot be taken for molaR's DNE.
 MOLAR_ARIADNE = {
@@ -297,7 +347,12 @@ MOLAR_ARIADNE = {
     "positive_dne": "positive_ariaDNE",
     "negative_dne": "negative_ariaDNE",
 }
-MOLAR_END = {"orientation": "orientation", "status": "status", "error": "error"}
+MOLAR_END = {
+    "orientation": "orientation",
+    "status": "status",
+    "error": "error",
+    "warnings": "warnings",
+}
 
 
 def _molar_rotation_header(key: str) -> str:
@@ -306,7 +361,7 @@ def _molar_rotation_header(key: str) -> str:
 
 def _molar_columns(metrics, rotations) -> tuple[Column, ...]:
     columns = [Column("File", "file", "text", basename=True)]
-    for metric in ("classic", "rfi", "opcr", "opc", "slope"):
+    for metric in MOLAR_NAMES:
         if metric not in metrics:
             continue
         for key, header in MOLAR_NAMES[metric].items():
@@ -348,8 +403,50 @@ MOLAR = Layout(
     metrics=METRICS,
 )
 
+#: doolkit's table's names for our record keys where they differ (the rest are doolkit's own).
+DOOLKIT_NAMES = {
+    "dk_opc": "opc",
+    **{key: f"opc_bin{k}" for k, key in enumerate(DOOLKIT_BIN_KEYS, start=1)},
+    "dk_opcr": "opcr",
+    **{key: f"opcr_rot{k}" for k, key in enumerate(DOOLKIT_ROTATION_KEYS)},
+}
+DOOLKIT_END = {"status": "status", "error": "error", "warnings": "warnings"}
+
+
+def _doolkit_columns(metrics, rotations) -> tuple[Column, ...]:
+    columns = [Column("file", "file", "text", basename=True)]
+    chosen = [metric for metric in DOOLKIT_METRICS if metric in metrics]
+    if chosen:
+        columns += [Column(key, key, _kind(key)) for key in DOOLKIT_BASE_KEYS]
+    for metric in chosen:
+        for key in METRIC_KEYS[metric]:
+            columns.append(Column(DOOLKIT_NAMES.get(key, key), key, _kind(key)))
+    columns += [Column(header, key, "text") for key, header in DOOLKIT_END.items()]
+    return tuple(columns)
+
+
+def _doolkit_parse(header: Sequence[str]) -> tuple[Column, ...]:
+    names = {"file": "file", **DOOLKIT_END}
+    names.update({key: key for key in DOOLKIT_BASE_KEYS})
+    for metric in DOOLKIT_METRICS:
+        names.update({DOOLKIT_NAMES.get(key, key): key for key in METRIC_KEYS[metric]})
+    return tuple(Column(name, names[name], _kind(names[name])) for name in header if name in names)
+
+
+DOOLKIT = Layout(
+    name="doolkit",
+    columns=_doolkit_columns(DOOLKIT_METRICS, ()),
+    required=("file", "n_vertices", "n_faces", "status"),
+    resumable=False,
+    description="doolkit 1.42's table's columns (file, n_vertices, n_faces, area3d, "
+    "slope_mean, ..., hypso_width; doolkit's metrics only), then status, error and warnings",
+    build=_doolkit_columns,
+    parse=_doolkit_parse,
+    metrics=DOOLKIT_METRICS,
+)
+
 #: Column layouts by name; :func:`read_table` recognises a file's layout by its header.
-LAYOUTS: dict[str, Layout] = {layout.name: layout for layout in (DENTOPO, SIGNDNE, MOLAR)}
+LAYOUTS: dict[str, Layout] = {layout.name: layout for layout in (DENTOPO, SIGNDNE, MOLAR, DOOLKIT)}
 
 
 def layout(columns: str | Layout, metrics=None, rotations: Sequence[float] = ()) -> Layout:
@@ -633,7 +730,8 @@ def _typed(kind: str, value):
 
 def _detect(header: Sequence[str], path: str) -> Layout:
     names = set(header)
-    for candidate in LAYOUTS.values():
+    # the most particular first: a doolkit table has dentopo's required columns too
+    for candidate in sorted(LAYOUTS.values(), key=lambda c: -len(c.required)):
         if all(name in names for name in candidate.required):
             return candidate
     wanted = " or ".join(f"({', '.join(c.required)})" for c in LAYOUTS.values())

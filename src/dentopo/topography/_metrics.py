@@ -1,24 +1,80 @@
 """The metrics a run can compute, by name, and the record keys each of them fills.
 
 ``ariadne`` is ariaDNE with its sign-oriented split (:mod:`dentopo.ariadne`);
-the others are molaR 6.0's dental-topography metrics in this subpackage.  The
-names are what ``--metrics`` accepts and what a table's columns are grouped
-by; their order is the order of the columns (ariaDNE first, then molaR's
-batch order: classic DNE, RFI, OPCR, OPC, slope).
+the others are molaR 6.0's and doolkit 1.42's dental-topography metrics in
+this subpackage.  The names are what ``--metrics`` accepts and what a table's
+columns are grouped by; their order is the order of the columns (ariaDNE
+first, then molaR's batch order: classic DNE, RFI, OPCR, OPC, slope, then ARC,
+then doolkit's metrics in the order of doolkit's own table).
+
+molaR's and doolkit's own function names are accepted as aliases, in any
+case (``DNE``, ``RFI``, ``OPCr``, ``Slope``, ``ARC``; ``inclin``, ``rrate``,
+``shape.index``, ``hypso``, ``area2d``).  Where molaR and doolkit use one
+name for two different computations (``slope``, ``opc``, ``opcr``, ``arc``,
+``dne``, ``rfi``), the name is molaR's and doolkit's is ``doolkit_slope``,
+``doolkit_opc`` ... (doolkit's ``rfi`` is ``relief_index``).  ``molar`` and
+``doolkit`` name each tool's whole set, ``all`` every metric.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 
+#: molaR 6.0's metrics (besides ariaDNE, which is ours), in molaR_Batch's order, ARC last.
+MOLAR_METRICS = ("classic", "rfi", "opcr", "opc", "slope", "arc")
+
+#: doolkit 1.42's metrics, in the order of doolkit's table's columns.
+DOOLKIT_METRICS = (
+    "doolkit_slope",
+    "angularity",
+    "relief_index",
+    "inclination",
+    "doolkit_opc",
+    "doolkit_opcr",
+    "doolkit_arc",
+    "doolkit_dne",
+    "relief_rate",
+    "shape_index",
+    "footprint",
+    "hypsodonty",
+)
+
 #: Every metric, in the order of a table's columns.
-METRICS = ("ariadne", "classic", "rfi", "opcr", "opc", "slope")
+METRICS = ("ariadne", *MOLAR_METRICS, *DOOLKIT_METRICS)
 
 #: What ``metrics="all"`` computes.
 ALL = "all"
 
+#: Names of sets of metrics: each tool's whole set, and everything.
+GROUPS = {ALL: METRICS, "molar": MOLAR_METRICS, "doolkit": DOOLKIT_METRICS}
+
+#: molaR's and doolkit's function names (lower case) for ours.
+ALIASES = {
+    "dne": "classic",
+    "classic_dne": "classic",
+    "opcr": "opcr",
+    "inclin": "inclination",
+    "rrate": "relief_rate",
+    "shape.index": "shape_index",
+    "hypso": "hypsodonty",
+    "area2d": "footprint",
+    "doolkit_rfi": "relief_index",
+}
+
 #: Metrics that assume the crown points to +z (see :mod:`._orientation`).
-ORIENTED = frozenset({"rfi", "opcr", "opc", "slope"})
+ORIENTED = frozenset(
+    {
+        "rfi",
+        "opcr",
+        "opc",
+        "slope",
+        "inclination",
+        "doolkit_opc",
+        "doolkit_opcr",
+        "relief_index",
+        "relief_rate",
+    }
+)
 
 #: Record keys of classic DNE in a batch table (its own names prefixed, beside ariaDNE's).
 CLASSIC_KEYS = {
@@ -32,6 +88,13 @@ CLASSIC_KEYS = {
 #: The eight OPC bin counts' keys.
 BIN_KEYS = tuple(f"opc_bin{k}" for k in range(1, 9))
 
+#: doolkit's OPC (bins numbered from 0 degrees) and OPCR totals: keys prefixed, beside molaR's.
+DOOLKIT_BIN_KEYS = tuple(f"dk_opc_bin{k}" for k in range(1, 9))
+DOOLKIT_ROTATION_KEYS = tuple(f"dk_opcr_rot{k}" for k in range(8))
+
+#: Keys every row with a doolkit metric holds first (doolkit's table starts with them).
+DOOLKIT_BASE_KEYS = ("n_vertices", "n_faces", "area3d")
+
 
 def rotation_key(degrees: float) -> str:
     """The record key of the OPC at one OPCR rotation: ``opc_0``, ``opc_5.625``, ..."""
@@ -43,8 +106,16 @@ def rotations(steps: int, step: float) -> tuple[float, ...]:
     return tuple(k * step + 0.0 for k in range(steps))
 
 
+def metric_names() -> str:
+    """The accepted names, for messages: every metric, then the sets."""
+    return f"{', '.join(METRICS)}, or {', '.join(GROUPS)}"
+
+
 def check_metrics(metrics: str | Iterable[str]) -> tuple[str, ...]:
-    """Validated metric names in table order (``"all"``, a name, a comma list or names).
+    """Validated metric names in table order.
+
+    Accepts ``"all"``, ``"molar"``, ``"doolkit"``, a name, an alias of molaR
+    or doolkit (:data:`ALIASES`), in any case, a comma list or names.
 
     Raises
     ------
@@ -60,13 +131,15 @@ def check_metrics(metrics: str | Iterable[str]) -> tuple[str, ...]:
             f"metrics must be names or a comma-separated string; got {metrics!r}"
         ) from None
     names = [name for name in names if name]
-    if ALL in names:
-        return METRICS
-    unknown = [name for name in names if name not in METRICS]
-    if unknown:
-        raise ValueError(
-            f"unknown metric {unknown[0]!r}: use some of {', '.join(METRICS)}, or {ALL}"
-        )
     if not names:
-        raise ValueError(f"no metric given: use some of {', '.join(METRICS)}, or {ALL}")
-    return tuple(name for name in METRICS if name in names)
+        raise ValueError(f"no metric given: use some of {metric_names()}")
+    chosen: set[str] = set()
+    for name in names:
+        if name in GROUPS:
+            chosen.update(GROUPS[name])
+            continue
+        metric = ALIASES.get(name, name)
+        if metric not in METRICS:
+            raise ValueError(f"unknown metric {name!r}: use some of {metric_names()}")
+        chosen.add(metric)
+    return tuple(name for name in METRICS if name in chosen)

@@ -45,3 +45,52 @@ def check_find_alpha(find_alpha) -> bool:
     if not isinstance(find_alpha, (bool, np.bool_)):
         raise TypeError(f"find_alpha must be True or False; got {type(find_alpha).__name__}")
     return bool(find_alpha)
+
+
+#: The boundary rules of classic DNE and ARC (molaR's ``BoundaryDiscard``).
+BOUNDARY_RULES = ("vertex", "leg", "none")
+
+
+def check_choice(name: str, value, choices: tuple[str, ...]) -> str:
+    """`value` lower-cased if it is one of `choices` (any case)."""
+    if not isinstance(value, str) or value.lower() not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(choices)} (any case); got {value!r}")
+    return value.lower()
+
+
+def check_min_area(value) -> float:
+    """OPC's ``min_area``: a fraction of the total surface area, in [0, 1)."""
+    value = check_finite("min_area", value)
+    if not 0.0 <= value < 1.0:
+        raise ValueError(
+            "min_area is a fraction of the total surface area and must lie in [0, 1); "
+            f"got {value!r}"
+        )
+    return value
+
+
+def check_classic_options(outliers, boundary, kappa) -> tuple[float, str, float]:
+    """Classic DNE's outlier percentage (in [0, 100]), boundary rule and kappa (finite)."""
+    outliers = check_finite("dne_outliers", outliers)
+    if not 0.0 <= outliers <= 100.0:
+        raise ValueError(f"dne_outliers is a percentage and must lie in [0, 100]; got {outliers!r}")
+    return (
+        outliers,
+        check_choice("dne_boundary", boundary, BOUNDARY_RULES),
+        check_finite("dne_kappa", kappa),
+    )
+
+
+def check_arc_options(boundary, quantiles) -> tuple[str, tuple[float, float]]:
+    """ARC's boundary rule and its two quantiles ``(low, high)``, ``0 <= low < high <= 1``."""
+    boundary = check_choice("arc_boundary", boundary, BOUNDARY_RULES)
+    try:
+        low, high = quantiles
+    except (TypeError, ValueError):
+        raise TypeError(f"arc_range must be two numbers (low, high); got {quantiles!r}") from None
+    low, high = check_finite("arc_range", low), check_finite("arc_range", high)
+    if not 0.0 <= low < high <= 1.0:
+        raise ValueError(
+            f"arc_range must be two quantiles with 0 <= low < high <= 1; got ({low!r}, {high!r})"
+        )
+    return boundary, (low, high)

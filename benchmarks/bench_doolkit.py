@@ -1,0 +1,197 @@
+"""Benchmark doolkit 1.42's metrics and molaR's ARC as dentopo computes them, against their seconds.
+
+Usage (from the repository root, with the project's environment)::
+
+    .venv/bin/python benchmarks/bench_doolkit.py                      # normal.ply
+    .venv/bin/python benchmarks/bench_doolkit.py --meshes normal high low --repeat 31
+
+doolkit and molaR are R packages and are not run here: their seconds come from the reference files
+``../shared/data/reference/doolkit_1.42.2_topography.csv`` and ``molaR_6.0_topography.csv``
+(columns ``s_*``), measured on a 2-core machine, one metric call on a mesh already read
+(``vcgImport``).  doolkit's relief indices are three calls (``s_rfi_ungar``, ``s_rfi_boyer``,
+``s_rfi_guy``), each computing the footprint again; ours is one call giving the three, so its
+seconds are compared with their sum; likewise the footprint (concave and convex areas).
+
+Ours are CPU seconds of this process (``time.process_time``), the median over ``--repeat`` rounds
+after one warm-up round, every round calling every metric in turn:
+
+* per metric, on a ``trimesh.Trimesh`` already in memory (``dentopo.load_mesh`` once): each call
+  includes the input checks, the cleaning and the orientation check, which doolkit does not
+  count;
+* the whole set as one batch row computes it (``dentopo.batch.measure_mesh(mesh, "doolkit")``:
+  the mesh cleaned once for every metric), against doolkit's summed seconds: the issue's target
+  is at least 20 times, the aim 100 times.
+
+Every value is compared with the tool's, so a fast wrong answer shows.  Nothing here is a test:
+timings depend on the machine and its load.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+import warnings
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+
+import dentopo  # noqa: E402
+from dentopo.batch import measure_mesh  # noqa: E402
+from dentopo.topography import (  # noqa: E402
+    angularity,
+    arc,
+    doolkit_arc,
+    doolkit_dne,
+    doolkit_opc,
+    doolkit_opcr,
+    doolkit_slope,
+    footprint_area,
+    hypsodonty,
+    inclination,
+    relief_index,
+    relief_rate_below_median,
+    shape_index,
+)
+
+SHARED = ROOT.parent / "shared" / "data"
+
+#: name -> (our call, the tool's seconds columns, [(our value, the tool's column)])
+DOOLKIT = {
+    "slope": (doolkit_slope, ("s_slope",), [(lambda r: r.slope_mean, "slope_mean")]),
+    "angularity": (
+        angularity,
+        ("s_angularity",),
+        [(lambda r: r.angularity_mean, "angularity_mean")],
+    ),
+    "relief indices": (
+        relief_index,
+        ("s_rfi_ungar", "s_rfi_boyer", "s_rfi_guy"),
+        [(lambda r: r.rfi_ungar, "rfi_ungar"), (lambda r: r.rfi_guy, "rfi_guy")],
+    ),
+    "inclination": (inclination, ("s_inclin",), [(lambda r: r.inclination_mean, "inclin_mean")]),
+    "OPC": (doolkit_opc, ("s_opc",), [(lambda r: r.opc, "opc")]),
+    "OPCR": (doolkit_opcr, ("s_opcr",), [(lambda r: r.opcr, "opcr")]),
+    "ARC": (doolkit_arc, ("s_arc",), [(lambda r: r.arc_mean, "arc_mean")]),
+    "DNE": (doolkit_dne, ("s_dne",), [(lambda r: r.dne_total_unrounded, "dne_total_unrounded")]),
+    "relief rate": (
+        relief_rate_below_median,
+        ("s_rrate",),
+        [(lambda r: r.rrate, "rrate_below_median")],
+    ),
+    "shape index": (
+        shape_index,
+        ("s_shape_index",),
+        [(lambda r: r.formfactor, "shape_formfactor")],
+    ),
+    "footprints": (
+        lambda m: (footprint_area(m, hull="concave"), footprint_area(m, hull="convex")),
+        ("s_area2d", "s_area2d_convex"),
+        [(lambda r: r[0].area, "area2d"), (lambda r: r[1].area, "area2d_convex")],
+    ),
+    "hypsodonty": (hypsodonty, ("s_hypso",), [(lambda r: r.hypsodonty, "hypso_hypsodonty")]),
+}
+
+
+def _reference(path: Path) -> dict:
+    with path.open(newline="") as handle:
+        return {row["file"].removesuffix(".ply"): row for row in csv.DictReader(handle)}
+
+
+def _agreement(ours: float, theirs: str) -> str:
+    if theirs == "NA":
+        return "NA"
+    expected = float(theirs)
+    if expected == 0:
+        return f"abs. diff {abs(ours):.1e}"
+    return f"rel. diff {abs(ours - expected) / abs(expected):.1e}"
+
+
+def _median_cpu(calls: dict, repeat: int) -> dict:
+    times: dict = {name: [] for name in calls}
+    for round_ in range(repeat + 1):  # round 0 is the warm-up
+        for name, call in calls.items():
+            start = time.process_time()
+            call()
+            elapsed = time.process_time() - start
+            if round_:
+                times[name].append(elapsed)
+    return {name: statistics.median(values) for name, values in times.items()}
+
+
+def _seconds(row: dict, columns) -> float:
+    return sum(float(row[column]) for column in columns)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--meshes", nargs="+", default=["normal"])
+    parser.add_argument("--repeat", type=int, default=21)
+    parser.add_argument("--data", type=Path, default=SHARED)
+    parser.add_argument("--json", type=Path, help="also write the figures to this JSON file")
+    args = parser.parse_args(argv)
+    # the reference crowns point to -z and the tools measured them as they lie: so do we
+    warnings.filterwarnings("ignore", "the crown points to -z", UserWarning)
+    doolkit_path = args.data / "reference" / "doolkit_1.42.2_topography.csv"
+    molar_path = args.data / "reference" / "molaR_6.0_topography.csv"
+    for path in (doolkit_path, molar_path):
+        if not path.exists():
+            print(f"reference values not found at {path}", file=sys.stderr)
+            return 2
+    doolkit, molar = _reference(doolkit_path), _reference(molar_path)
+
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    print(f"dentopo {dentopo.__version__}, Python {platform.python_version()}, {cpus} cores, "
+          f"CPU seconds, median of {args.repeat} interleaved rounds after one warm-up")  # fmt: skip
+    print(f"{'mesh':8} {'metric':16} {'tool s':>8} {'ours s':>9} {'ratio':>7}  agreement")
+    figures = []
+    for name in args.meshes:
+        mesh = dentopo.load_mesh(args.data / "meshes" / f"{name}.ply")
+        row, molar_row = doolkit[name], molar[name]
+        calls = {
+            metric: (lambda call=call, mesh=mesh: call(mesh))
+            for metric, (call, _, _) in DOOLKIT.items()
+        }
+        calls["molaR ARC"] = lambda mesh=mesh: arc(mesh)
+        calls["whole set"] = lambda mesh=mesh: measure_mesh(mesh, "doolkit")
+        times = _median_cpu(calls, args.repeat)
+        for metric, (call, columns, checks) in DOOLKIT.items():
+            theirs, ours = _seconds(row, columns), times[metric]
+            result = call(mesh)
+            agreement = "; ".join(
+                f"{column} {_agreement(value(result), row[column])}" for value, column in checks
+            )
+            ratio = theirs / ours if theirs > 0 else float("nan")
+            figures.append({"mesh": name, "metric": metric, "tool_seconds": theirs,
+                            "seconds": ours, "ratio": ratio})  # fmt: skip
+            print(f"{name:8} {metric:16} {theirs:8.3f} {ours:9.5f} {ratio:7.0f}  {agreement}")
+        whole = times["whole set"]
+        total = sum(_seconds(row, columns) for _, columns, _ in DOOLKIT.values())
+        ratio = total / whole
+        figures.append({"mesh": name, "metric": "doolkit set", "tool_seconds": total,
+                        "seconds": whole, "ratio": ratio})  # fmt: skip
+        print(
+            f"{name:8} {'doolkit, a row':16} {total:8.3f} {whole:9.5f} {ratio:7.0f}  "
+            "(the whole set as a batch row computes it; target 20x, aim 100x)"
+        )
+        theirs, ours = float(molar_row["s_ARC"]), times["molaR ARC"]
+        agreement = _agreement(arc(mesh).arc, molar_row["ARC"])
+        figures.append({"mesh": name, "metric": "molaR ARC", "tool_seconds": theirs,
+                        "seconds": ours, "ratio": theirs / ours})  # fmt: skip
+        print(
+            f"{name:8} {'molaR ARC':16} {theirs:8.3f} {ours:9.5f} {theirs / ours:7.0f}  "
+            f"ARC {agreement} (target 20x)"
+        )
+    if args.json:
+        args.json.write_text(json.dumps({"cores": cpus, "rows": figures}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
