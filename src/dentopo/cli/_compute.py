@@ -113,7 +113,8 @@ exit codes:
        be written
   2    usage error, found before any file is computed: bad options, no mesh
        files found, an extra the options need is not installed, an --output
-       that cannot be written
+       that cannot be written, an output that would replace an input or
+       another output of the run, or whose suffix its writer does not write
   130  interrupted by Ctrl-C or SIGTERM: the rows done are written; rerun with
        --resume to finish
 
