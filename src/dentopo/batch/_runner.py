@@ -665,6 +665,10 @@ def compute_batch(
     per_vertex_dir : path-like, optional
         Existing directory for each mesh's per-vertex files,
         ``<name>.dentopo.<format>`` (see :func:`dentopo.write_per_vertex`).
+        Names are unique within the batch; the directory records which mesh
+        each name was written for (``.dentopo-sources.jsonl``), and replacing
+        the files of another mesh (another batch's ``tooth.ply``) warns.  A
+        file that cannot be written gives that mesh an error row naming it.
     per_vertex_formats : str or iterable of str, default ("ply", "csv")
         Which per-vertex files: some of ``"ply"``, ``"vtp"``, ``"npz"``,
         ``"csv"`` (or one comma-separated string).
@@ -698,7 +702,8 @@ def compute_batch(
     Warns
     -----
     UserWarning
-        For each file whose computation warned, prefixed with the file name.
+        For each file whose computation warned, prefixed with the file name;
+        for per-vertex files of another mesh that are replaced.
 
     Examples
     --------

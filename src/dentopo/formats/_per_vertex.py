@@ -293,6 +293,8 @@ def write_per_vertex(
     ------
     ValueError
         For an unknown format or bad colour limits.
+    OSError
+        If a file cannot be written (a full disk); its ``filename`` is the file.
     """
     formats = per_vertex_formats(formats)
     base = os.path.join(os.fspath(directory), name + OUTPUT_SUFFIX)
