@@ -41,7 +41,11 @@ from dentopo.topography import (
 from dentopo.topography._opc_doolkit import doolkit_pairs
 
 #: The reference crowns point to -z, as doolkit measured them: that warning is expected here.
-pytestmark = pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning")
+pytestmark = [
+    pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning"),
+    # planes are flat: no up or down (tests/test_orientation.py)
+    pytest.mark.filterwarnings("ignore:the surface is flat:UserWarning"),
+]
 
 #: Every shared mesh: the robustness set, its holed variant and six closed museum specimens.
 SHARED = (

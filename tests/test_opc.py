@@ -14,7 +14,11 @@ from conftest import ROBUSTNESS_SET, plane_patch, shared_mesh
 from dentopo.topography import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
 
 #: The reference crowns point to -z, as molaR measured them: that warning is expected here.
-pytestmark = pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning")
+pytestmark = [
+    pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning"),
+    # planes and single faces are flat: no up or down (tests/test_orientation.py)
+    pytest.mark.filterwarnings("ignore:the surface is flat:UserWarning"),
+]
 
 ROTATIONS = (0, 5.625, 11.25, 16.875, 22.5, 28.125, 33.75, 39.375)
 

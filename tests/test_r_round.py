@@ -43,4 +43,4 @@ def test_r_round_gives_rs_own_round():
     differ = np.flatnonzero(ours != theirs)
     assert len(differ) == 0, [(values[i], ours[i], theirs[i]) for i in differ[:5]]
     # and R's round is not Python's: the test would catch a plain round()
-    assert any(round(float(v), 2) != t for v, t in zip(values, theirs))
+    assert any(round(float(v), 2) != t for v, t in zip(values, theirs, strict=True))

@@ -10,7 +10,11 @@ from conftest import ROBUSTNESS_SET, hemisphere, shared_mesh
 from dentopo.topography import SLOPE_FIELDS, SlopeResult, slope
 
 #: The reference crowns point to -z, as molaR measured them: that warning is expected here.
-pytestmark = pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning")
+pytestmark = [
+    pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning"),
+    # planes and single faces are flat: no up or down (tests/test_orientation.py)
+    pytest.mark.filterwarnings("ignore:the surface is flat:UserWarning"),
+]
 
 
 @pytest.mark.parametrize("name", ROBUSTNESS_SET)

@@ -37,11 +37,21 @@ MOLAR_HEADER = [
 
 @pytest.fixture
 def crowns(tmp_path):
-    """Two small open crowns pointing to +z and one pointing to -z, as PLY files."""
+    """Two small open crowns pointing to +z and one pointing to -z, as PLY files.
+
+    Measurable by molaR's RFI with its search for an alpha: fine enough for the
+    search to end within its 99 hulls (on a 12 x 24 grid the points are too far
+    apart in molaR's units), leaning a little so that the vertices' mean is not
+    the pole vertex (molaR's duplicate check would drop the appended mean, and
+    its fan test from the last point would stop on a missing value), and turned
+    about z so that no two vertices share an x or a y value.
+    """
     folder = tmp_path / "crowns"
     folder.mkdir()
-    up = hemisphere(rings=12, segments=24)
+    up = hemisphere(rings=24, segments=48)
     up.vertices[:, 2] *= 0.6
+    up.vertices[:, 0] += 0.05 * up.vertices[:, 2]
+    up.apply_transform(trimesh.transformations.rotation_matrix(0.1234567, [0, 0, 1]))
     bumpy = up.copy()
     bumpy.vertices[:, 2] += 0.05 * np.sin(5 * bumpy.vertices[:, 0]) * bumpy.vertices[:, 2]
     down = up.copy()
@@ -207,7 +217,10 @@ def test_per_face_files_hold_slope_and_patches(crowns, tmp_path):
 @pytest.mark.parametrize(
     "options, message",
     [
-        (["--metrics", "dne"], "unknown metric 'dne'"),
+        (["--metrics", "curvy"], "unknown metric 'curvy'"),
+        (["--metrics", "arc", "--arc-range", "0.5", "0.2"], "arc_range must be two quantiles"),
+        (["--metrics", "classic", "--dne-outliers", "101"], "dne_outliers is a percentage"),
+        (["--metrics", "opc", "--min-area", "1.5"], "min_area is a fraction"),
         (["--metrics", "rfi", "--alpha", "-1"], "alpha must be a positive"),
         (["--metrics", "opcr", "--opcr-steps", "0"], "opcr_steps must be at least 1"),
         (["--metrics", "opc", "--min-faces", "-1"], "min_faces must be at least 0"),

@@ -87,7 +87,9 @@ def test_a_killed_run_keeps_its_finished_rows_for_resume(tmp_path, jobs):
     finally:
         run.kill()
     assert not out.exists()  # the table is written at the end...
-    kept = [json.loads(line) for line in journal.read_text().splitlines()]
+    header, *lines = journal.read_text().splitlines()
+    assert json.loads(header) == {"journal": "dentopo", "version": 1}  # what the file is
+    kept = [json.loads(line) for line in lines]
     done = [str(tmp_path / name) for name in ("a.ply", "b.ply", "c.ply")]
     assert sorted(row["file"] for row in kept) == done
 

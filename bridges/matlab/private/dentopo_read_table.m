@@ -5,7 +5,10 @@ function rows = dentopo_read_table(path)
 %   message with commas, quotes or line breaks comes through unchanged; a
 %   column whose every non-empty cell is a number becomes numbers (empty:
 %   NaN), read with str2double (exact for the shortest-repr text the command
-%   writes); other columns stay text ('' where empty).
+%   writes); other columns stay text ('' where empty). A cell that begins
+%   with an apostrophe had one put there by the command (so that a
+%   spreadsheet does not run a name such as '=HYPERLINK(...).ply' as a
+%   formula): exactly one is removed, as dentopo's read_table does.
 text = fileread(path);
 tokens = regexp(text, '("(?:[^"]|"")*"|[^,"\r\n]*)(,|\r\n|\n|$)', 'tokens');
 records = {};
@@ -35,6 +38,9 @@ for j = 1:numel(names)
   for i = 1:n
     if j <= numel(body{i})
       cells{i} = body{i}{j};
+      if ~isempty(cells{i}) && cells{i}(1) == ''''
+        cells{i} = cells{i}(2:end);
+      end
     else
       cells{i} = '';
     end

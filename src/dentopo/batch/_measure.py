@@ -27,6 +27,7 @@ from ..topography import (
     check_alpha,
     check_arc_options,
     check_classic_options,
+    check_duplicates,
     check_find_alpha,
     check_finite,
     check_int,
@@ -88,7 +89,11 @@ class TopographyOptions:
         ARC's quantiles beyond which faces are zeroed (molaR's ``Range``).
     orient : str
         ``"as-is"`` (molaR's behaviour) or ``"auto"`` (a crown pointing to -z
-        is turned before the metrics that assume +z).
+        is turned before the metrics that assume +z, and faces wound inward
+        are rewound before those and classic DNE).
+    duplicates : str
+        ``"drop"`` (faces listed twice measured once) or ``"keep"`` (molaR's:
+        as listed); see :func:`dentopo.topography.prepare_surface`.
     """
 
     alpha: float = 0.075
@@ -103,6 +108,7 @@ class TopographyOptions:
     arc_boundary: str = "vertex"
     arc_range: tuple[float, float] = (0.01, 0.99)
     orient: str = "as-is"
+    duplicates: str = "drop"
 
     def __post_init__(self):
         # the metrics' own checks, made once for the whole batch
@@ -122,6 +128,7 @@ class TopographyOptions:
         object.__setattr__(self, "arc_boundary", boundary)
         object.__setattr__(self, "arc_range", quantiles)
         object.__setattr__(self, "orient", check_orient(self.orient))
+        object.__setattr__(self, "duplicates", check_duplicates(self.duplicates))
 
     def rotations(self) -> tuple[float, ...]:
         """OPCR's rotations, degrees."""
@@ -215,10 +222,10 @@ def _values(metric: str, result) -> dict:
     return values
 
 
-def _prepared(mesh):
+def _prepared(mesh, options: TopographyOptions):
     """The surface molaR's metrics share, or the reason it could not be prepared."""
     try:
-        return prepare_surface(mesh)
+        return prepare_surface(mesh, duplicates=options.duplicates)
     except OSError:
         raise
     except Exception as exc:  # each metric names it (see _errors: ours, or an internal error)
@@ -251,6 +258,7 @@ _TOPOGRAPHY = {
         outliers=options.dne_outliers,
         boundary=options.dne_boundary,
         kappa=options.dne_kappa,
+        orient=options.orient,
     ),
     "rfi": lambda surface, options: rfi(
         surface, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient
@@ -328,7 +336,7 @@ def measure_mesh(
     ariadne_options = {} if ariadne_options is None else ariadne_options
     if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
         mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
-    surface = _prepared(mesh) if metrics != ("ariadne",) else None
+    surface = _prepared(mesh, options) if metrics != ("ariadne",) else None
     record: dict = {}
     results: dict = {}
     errors: dict = {}

@@ -530,6 +530,7 @@ def make_settings(
     arc_boundary: str = "vertex",
     arc_range: tuple[float, float] = (0.01, 0.99),
     orient: str = "as-is",
+    duplicates: str = "drop",
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
 
@@ -566,6 +567,7 @@ def make_settings(
             arc_boundary=arc_boundary,
             arc_range=arc_range,
             orient=check_orient(orient),
+            duplicates=duplicates,
         ),
     )
 
@@ -600,6 +602,7 @@ def compute_batch(
     arc_boundary: str = "vertex",
     arc_range: tuple[float, float] = (0.01, 0.99),
     orient: str = "as-is",
+    duplicates: str = "drop",
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -650,8 +653,14 @@ def compute_batch(
         ARC's ``boundary`` and ``range`` (:func:`dentopo.topography.arc`).
     orient : {"as-is", "auto"}, default "as-is"
         ``"auto"`` turns a crown that points to -z before slope, OPC, OPCR and
-        RFI (see :func:`dentopo.find_orientation`); ``"as-is"`` measures it
-        as it is, as molaR does, and warns.
+        RFI (see :func:`dentopo.find_orientation`) and rewinds faces wound
+        inward before those and classic DNE; ``"as-is"`` measures it as it
+        is, as molaR does, and warns.
+    duplicates : {"drop", "keep"}, default "drop"
+        Faces listed more than once: measured once (``"drop"``, as ariaDNE's
+        cleaning and the ``faces`` column count them) or as listed by molaR's
+        metrics (``"keep"``, molaR's behaviour); warned about either way (see
+        :func:`dentopo.topography.prepare_surface`).
     scheduler : str or distributed.Client, optional
         Address of a Dask distributed scheduler (``"tcp://host:8786"``) or a
         client: run on that cluster instead of local processes (``jobs`` is
@@ -740,6 +749,7 @@ def compute_batch(
         arc_boundary=arc_boundary,
         arc_range=arc_range,
         orient=orient,
+        duplicates=duplicates,
     )
     check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):

@@ -47,6 +47,7 @@ from ..formats import (
     FORMATS,
     LAYOUTS,
     PER_VERTEX_FORMATS,
+    NotAJournalError,
     PerVertexOptions,
     journal_path,
     layout,
@@ -57,7 +58,7 @@ from ..formats import (
 )
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
-from ..topography import BOUNDARY_RULES, GROUPS, METRICS, ORIENT_MODES
+from ..topography import BOUNDARY_RULES, DUPLICATE_MODES, GROUPS, METRICS, ORIENT_MODES
 from ._output import Planned, TableOutput, output_problem
 from ._progress import PROG, Progress
 from ._progress import say as _say
@@ -71,7 +72,12 @@ PICTURE_FORMATS = (".png", ".svg", ".pdf")
 
 #: ``--color-by`` fields of ariaDNE, and the metrics that have a picture of their own.
 CURVATURE_FIELDS = ("local_curvature", "local_dne")
-METRIC_PICTURES = ("slope", "opc", "rfi")
+#: Per-face maps of one value (:data:`dentopo.figures.FACE_METRICS`): ARC on the diverging
+#: map, the others on the sequential one.
+FACE_PICTURES = ("arc", "angularity", "inclination", "elevation")
+#: Pictures computed in the picture step from the mesh itself (not batch metrics).
+PICTURE_STEP = ("elevation",)
+METRIC_PICTURES = ("slope", "opc", "rfi", *FACE_PICTURES)
 
 #: The metrics of ``--columns molar`` when --metrics is not given: molaR_Batch's defaults
 #: (classic DNE, RFI, OPCR, slope), and ariaDNE.
@@ -92,6 +98,8 @@ examples:
   dentopo scans/ --metrics all --columns molar -o topography.csv  # molaR_Batch's table
   dentopo scans/ --metrics rfi,opcr,slope --find-alpha --orient auto -o topography.csv
   dentopo tooth.ply --metrics opc --color-by opc --screenshot opc.png
+  dentopo tooth.ply --metrics arc --color-by arc --screenshot arc.png --html arc.html
+  dentopo tooth.ply --color-by elevation --orient auto --screenshot elevation.png
   dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
 
 inputs are files, directories (searched recursively for ply, obj, stl, off, glb,
@@ -258,8 +266,18 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         type=str.lower,
         choices=ORIENT_MODES,
         default="as-is",
-        help="as-is (default, molaR's: measure the crown as it lies, warn if it points to -z) "
-        "or auto (turn a crown pointing to -z before slope, OPC, OPCR and RFI)",
+        help="as-is (default, molaR's: measure the crown as it lies, warn if it points to -z "
+        "or its faces are wound inward) or auto (turn a crown pointing to -z before slope, "
+        "OPC, OPCR and RFI; rewind faces wound inward before those and classic DNE)",
+    )
+    topo.add_argument(
+        "--duplicates",
+        type=str.lower,
+        choices=DUPLICATE_MODES,
+        default="drop",
+        help="faces listed more than once: drop (default: each triangle measured once, as "
+        "ariaDNE and the faces column count it) or keep (molaR's: measured as listed); "
+        "warned about either way",
     )
     compute.add_argument(
         "--geometry",
@@ -348,8 +366,12 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         choices=(*CURVATURE_FIELDS, *METRIC_PICTURES),
         default="local_curvature",
         help="what to draw: local_curvature (default) or local_dne (ariaDNE), slope (per face), "
-        "opc (the patches) or rfi (the footprint outline over the top view); the metric must "
-        "be among --metrics",
+        "opc (the patches), rfi (the footprint outline over the top view), or per face arc "
+        "(diverging, centred on 0; --limits and --percentile apply), angularity (0 to 90 "
+        "degrees), inclination (0 to 180 degrees) or elevation (mesh units, 0 to its highest "
+        "face); the metric must be among --metrics, except elevation (doolkit's height above "
+        "the lowest vertex), which the picture step computes from the mesh file itself (with "
+        "--orient auto a crown pointing to -z is turned first)",
     )
     view.add_argument(
         "--view",
@@ -515,6 +537,28 @@ def _missing_extra(args, settings, scheduler) -> str | None:
     return None
 
 
+def _picture_problem(args, metrics) -> str | None:
+    """A problem with drawing a metric's picture (--color-by), or None."""
+    drawn = args.color_by
+    if drawn not in METRIC_PICTURES:
+        return None
+    if drawn not in PICTURE_STEP and drawn not in metrics:
+        return f"--color-by {drawn} draws a metric that is not computed: add --metrics {drawn}"
+    if not _rendering_requested(args):
+        return None
+    if args.panel is not None:
+        return (
+            f"--panel draws ariaDNE's local_curvature or local_dne side by side; --color-by "
+            f"{drawn} draws one mesh (--screenshot, --html or --show)"
+        )
+    if args.limits and drawn in FACE_PICTURES and drawn != "arc":
+        return (
+            f"--limits sets a diverging scale (ariaDNE's curvature, ARC); --color-by {drawn} "
+            "is drawn on its own sequential scale (see --help)"
+        )
+    return None
+
+
 def _load_renderer():
     """The pictures package (pyvista is imported only when a picture is drawn), or None."""
     try:
@@ -528,9 +572,9 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
     """Draw what was asked for; an exit code (0, 1 display unavailable, 2 bad option)."""
     drawn = "ariadne" if args.color_by in CURVATURE_FIELDS else args.color_by
     ok = [
-        (files[i], o.result.results[drawn])
+        (files[i], None if drawn in PICTURE_STEP else o.result.results[drawn])
         for i, o in sorted(outcomes.items())
-        if o.result is not None and drawn in o.result.results
+        if o.result is not None and (drawn in PICTURE_STEP or drawn in o.result.results)
     ]
     if not ok:
         _say(
@@ -594,23 +638,67 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
 
 
 def _render_metric(render, metric: str, result, args, options: dict) -> None:
-    """One topography metric's picture: slope per face, OPC patches, or the RFI footprint."""
+    """One topography metric's picture: slope per face, OPC patches, the RFI footprint, or
+    one value per face (ARC, angularity, inclination, elevation)."""
     options["parameters"] = _metric_parameters(metric, args)
     if metric == "slope":
         render.render_slope(result.mesh, result.face_slope, **options)
     elif metric == "opc":
         render.render_opc(result.mesh, result.face_bin, result.face_patch, **options)
-    else:
+    elif metric == "rfi":
         render.render_footprint(result.mesh, result.footprint, **options)
+    else:
+        if metric in PICTURE_STEP:
+            result = _picture_step_result(metric, options["source"], args)
+        spec = render.FACE_METRICS[metric]
+        keywords = spec.keywords()
+        note = ""
+        if metric == "arc":
+            keywords.update(
+                limits=tuple(args.limits) if args.limits else None, percentile=args.percentile
+            )
+            low, high = result.range
+            note = (
+                f"set to 0: {result.boundary_faces} border faces ({result.boundary} rule), "
+                f"{result.cut_faces} beyond the {low:g} and {high:g} quantiles"
+            )
+        render.render_face_values(
+            result.mesh, getattr(result, spec.field), note=note, **keywords, **options
+        )
+
+
+def _picture_step_result(metric: str, file: str, args):
+    """A picture's metric computed here from the mesh file (elevation: not a batch metric)."""
+    import warnings
+
+    from ..mesh import load_mesh
+    from ..topography import elevation
+
+    mesh = load_mesh(file, geometry=args.geometry)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = elevation(mesh, orient=args.orient)
+    for warning in caught:
+        _say(f"{file}: warning: {warning.message}")
+    return result
 
 
 def _metric_parameters(metric: str, args) -> dict:
     """The settings of a topography metric's picture, for its provenance."""
-    parameters = {"orient": args.orient}
+    if metric in ("arc", "angularity"):  # orientation-free
+        parameters = {}
+    else:
+        parameters = {"orient": args.orient}
     if metric == "opc":
         parameters["min_faces"] = args.min_faces
     elif metric == "rfi":
         parameters.update(alpha=args.alpha, find_alpha=args.find_alpha)
+    elif metric == "arc":
+        parameters.update(arc_boundary=args.arc_boundary, arc_range=list(args.arc_range))
+    elif metric in PICTURE_STEP:
+        parameters["computed"] = "in the picture step, from the mesh file"
+        if args.geometry is not None:
+            parameters["geometry"] = args.geometry
     return parameters
 
 
@@ -646,15 +734,14 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             arc_boundary=args.arc_boundary,
             arc_range=tuple(args.arc_range),
             orient=args.orient,
+            duplicates=args.duplicates,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
         return 2
-    if args.color_by in METRIC_PICTURES and args.color_by not in settings.metrics:
-        _say(
-            f"--color-by {args.color_by} draws a metric that is not computed: add --metrics "
-            f"{args.color_by}"
-        )
+    problem = _picture_problem(args, settings.metrics)
+    if problem:
+        _say(problem)
         return 2
     if (
         args.color_by in CURVATURE_FIELDS
@@ -663,7 +750,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     ):
         _say(
             f"--color-by {args.color_by} (the default) draws ariaDNE, which is not among "
-            "--metrics: add ariadne, or choose --color-by slope, opc or rfi"
+            f"--metrics: add ariadne, or choose --color-by {', '.join(METRIC_PICTURES)}"
         )
         return 2
     try:  # also checks --limits and --percentile before any work
@@ -751,6 +838,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
             return 2
         try:
             output.recover()
+        except NotAJournalError as exc:  # not a killed run's rows: say what it is
+            _say(str(exc))
+            return 2
         except (OSError, ValueError) as exc:
             _say(f"cannot add the rows of an earlier run kept in {output.journal_path!r}: {exc}")
             return 2
@@ -779,6 +869,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
     if output is not None and todo:
         try:
             output.start_journal()
+        except NotAJournalError as exc:  # planted since it was checked
+            _say(str(exc))
+            return 2
         except OSError as exc:
             _say(f"cannot write {output.journal_path!r}: {exc}")
             return 2

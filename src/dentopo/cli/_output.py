@@ -220,10 +220,12 @@ class TableOutput:
 
         Raises
         ------
+        NotAJournalError
+            If the file at the journal's path is not a dentopo journal (left as it is).
         OSError, ValueError
             If the table or the journal cannot be read, or the table written.
         """
-        if not os.path.exists(self.journal_path):
+        if not os.path.lexists(self.journal_path):  # a link planted there is refused
             return
         rows, skipped = read_journal(self.journal_path)
         if rows:

@@ -11,6 +11,8 @@ from __future__ import annotations
 import os
 import sys
 
+from ..formats import METRIC_KEYS
+from ..topography import ORIENTED
 from ._progress import is_terminal
 
 #: Columns of the table printed on stdout when no --output is given.
@@ -36,6 +38,9 @@ METRIC_SUMMARY = {
     "opcr": ("opcr",),
     "opc": ("opc",),
     "slope": ("slope",),
+    "arc": ("arc",),
+    "relief_index": ("rfi_boyer",),
+    "footprint": ("area2d",),
 }
 
 
@@ -44,9 +49,9 @@ def table_columns(metrics=("ariadne",)) -> tuple[str, ...]:
     if tuple(metrics) == ("ariadne",):
         return TABLE_COLUMNS
     columns = ["file"]
-    for metric in metrics:
-        columns += METRIC_SUMMARY[metric]
-    if any(m in metrics for m in ("rfi", "opcr", "opc", "slope")):
+    for metric in metrics:  # a metric's main value: its first column unless named above
+        columns += METRIC_SUMMARY.get(metric, METRIC_KEYS[metric][:1])
+    if ORIENTED.intersection(metrics):
         columns.append("orientation")
     return (*columns, "seconds", "status", "error")
 

@@ -6,8 +6,9 @@ and every picture's camera), ``_layout`` (print-ready composition: pyvista 3D
 views with matplotlib texts and legends, sized in points), ``_provenance``
 (the JSON kept in every PNG and HTML page), ``_render`` (windows and pictures,
 pyvista imported only when a picture is drawn), ``_html`` (self-contained WebGL
-pages), ``_topography`` (per-face pictures of slope and OPC, and RFI's footprint
-outline, drawn from a result's arrays).
+pages), ``_topography`` (per-face pictures of slope, OPC, ARC, angularity,
+inclination and elevation, and RFI's footprint outline, drawn from a result's
+arrays).
 
 May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
 :mod:`dentopo.topography` (to compute a result with default settings when none
@@ -33,12 +34,20 @@ from ._render import (  # pyvista is imported only when a picture is drawn
     render_curvature,
     render_panel,
 )
-from ._topography import render_footprint, render_opc, render_slope
+from ._topography import (
+    FACE_METRICS,
+    FaceMetric,
+    render_face_values,
+    render_footprint,
+    render_opc,
+    render_slope,
+)
 from ._views import VIEWS
 
 __all__ = [
     "DEFAULT_PERCENTILE",
     "DEFAULT_VIEW",
+    "FACE_METRICS",
     "NEUTRAL",
     "OPC_COLORS",
     "VIEWS",
@@ -46,6 +55,7 @@ __all__ = [
     "Camera",
     "ColorScale",
     "DisplayUnavailableError",
+    "FaceMetric",
     "camera_for",
     "color_scale",
     "diverging_rgb",
@@ -53,6 +63,7 @@ __all__ = [
     "render_bandwidths",
     "render_comparison",
     "render_curvature",
+    "render_face_values",
     "render_footprint",
     "render_opc",
     "render_panel",

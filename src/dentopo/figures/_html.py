@@ -8,6 +8,11 @@ Security Policy (``default-src 'none'``) makes the browser refuse any request
 it might try.  Drag to rotate (all panels turn together), wheel to zoom,
 double-click to reset.  Opening the page with ``#canvas2d`` appended to
 its address forces the 2D-canvas fallback.  numpy only.
+
+Names and captions are text: the JSON blocks escape ``<``, ``>`` and ``&``
+(:func:`._provenance.html_json`), the viewer sets them as ``textContent``, and
+the page is filled in one pass (:func:`fill`), so that a name holding
+``%DATA%`` stays as it is.
 """
 
 from __future__ import annotations
@@ -16,6 +21,7 @@ import base64
 import html as html_escape
 import json
 import os
+import re
 
 import numpy as np
 
@@ -135,15 +141,23 @@ def write_html(
         if scale is None:
             raise ValueError("write_html needs the colour scale or a legend block (bar=)")
         bar = _diverging_bar(scale, title, legend)
-    data = json.dumps(payload, separators=(",", ":")).replace("</", "<\\/")
-    page = (
-        _TEMPLATE.replace("%TITLE%", html_escape.escape(title))
-        .replace("%BAR%", bar)
-        .replace("%SCRIPT%", _SCRIPT)
-        .replace("%PROVENANCE%", _provenance.html_block(provenance) if provenance else "")
-        .replace("%DATA%", data)
-    )
-    write_bytes(os.fspath(path), page.encode("utf-8"))
+    parts = {
+        "TITLE": html_escape.escape(title),
+        "BAR": bar,
+        "SCRIPT": _SCRIPT,
+        "PROVENANCE": _provenance.html_block(provenance) if provenance else "",
+        "DATA": _provenance.html_json(json.dumps(payload, separators=(",", ":"))),
+    }
+    write_bytes(os.fspath(path), fill(_TEMPLATE, parts).encode("utf-8"))
+
+
+def fill(template: str, parts: dict[str, str]) -> str:
+    """`template` with each ``%NAME%`` replaced by ``parts[NAME]``, in one pass.
+
+    One pass: a part that itself holds ``%DATA%`` or ``%SCRIPT%`` (a title or a
+    file name, say) is kept as it is, not filled in turn.
+    """
+    return re.sub(r"%([A-Z]+)%", lambda m: parts.get(m.group(1), m.group(0)), template)
 
 
 def _gradient(stops) -> str:

@@ -552,9 +552,12 @@ def write_bytes(path, data: bytes) -> None:
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
-        mask = os.umask(0o022)
-        os.umask(mask)
-        os.chmod(temporary, 0o666 & ~mask)
+            mask = os.umask(0o022)
+            os.umask(mask)
+            if hasattr(os, "fchmod"):  # through the file, never a link planted at its name
+                os.fchmod(stream.fileno(), 0o666 & ~mask)
+            else:  # pragma: no cover -- Windows before Python 3.13
+                os.chmod(temporary, 0o666 & ~mask)
         os.replace(temporary, path)
     except BaseException:
         if os.path.exists(temporary):

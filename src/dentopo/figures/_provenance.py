@@ -102,10 +102,29 @@ def dumps(record: dict) -> str:
     return json.dumps(record, ensure_ascii=True, separators=(",", ":"), allow_nan=False)
 
 
+#: What JSON text inside an HTML ``<script>`` element may not hold as it is, and its escape.
+_HTML_UNSAFE = {"<": "\\u003c", ">": "\\u003e", "&": "\\u0026"}
+
+
+def html_json(text: str) -> str:
+    """JSON text made safe inside an HTML ``<script>`` element, for the same JSON value.
+
+    ``<``, ``>`` and ``&`` become ``\\u003c``, ``\\u003e`` and ``\\u0026``: JSON has
+    them only inside strings, where these escapes mean the same characters, so
+    ``JSON.parse`` and :func:`json.loads` read the same value; and the page's
+    parser sees no ``</script>``, no ``<!--`` (which, followed by ``<script>``,
+    keeps the element open to the end of the page) and, should the page be
+    read as XML, no entity.  Every JSON
+    block in dentopo's pages goes through here.
+    """
+    for character, escape in _HTML_UNSAFE.items():
+        text = text.replace(character, escape)
+    return text
+
+
 def html_block(record: dict) -> str:
     """The ``<script type="application/json">`` block of an HTML page."""
-    text = dumps(record).replace("</", "<\\/")
-    return f'<script type="application/json" id="{HTML_ID}">{text}</script>'
+    return f'<script type="application/json" id="{HTML_ID}">{html_json(dumps(record))}</script>'
 
 
 def _png_text(path) -> str | None:
@@ -176,7 +195,7 @@ def read_provenance(path) -> dict:
         found = re.search(
             rf'<script type="application/json" id="{HTML_ID}">(.*?)</script>', page, re.S
         )
-        text = found.group(1).replace("<\\/", "</") if found else None
+        text = found.group(1) if found else None  # "<\\/" of older pages is JSON for "</"
     if text is None:
         raise ValueError(f"{name!r} holds no dentopo provenance (not written by dentopo?)")
     try:

@@ -16,8 +16,15 @@ batch, study or cli.
 """
 
 from ._atomic import atomic_write
-from ._journal import JOURNAL_SUFFIX, Journal, journal_path, read_journal
-from ._lock import OutputLock, check_writable, lock_path
+from ._journal import (
+    JOURNAL_HEADER,
+    JOURNAL_SUFFIX,
+    Journal,
+    NotAJournalError,
+    journal_path,
+    read_journal,
+)
+from ._lock import ForeignLockError, OutputLock, check_writable, lock_path
 from ._per_face import FACES_SUFFIX, per_face_arrays, write_per_face
 from ._per_vertex import (
     DEFAULT_PER_VERTEX_FORMATS,
@@ -60,6 +67,7 @@ __all__ = [
     "DOOLKIT_NAMES",
     "FACES_SUFFIX",
     "FORMATS",
+    "JOURNAL_HEADER",
     "JOURNAL_SUFFIX",
     "LAYOUTS",
     "METRIC_KEYS",
@@ -68,8 +76,10 @@ __all__ = [
     "SETTING_KEYS",
     "SOURCES_FILE",
     "Column",
+    "ForeignLockError",
     "Journal",
     "Layout",
+    "NotAJournalError",
     "OutputLock",
     "PerVertexOptions",
     "TableFormat",

@@ -9,6 +9,13 @@ lock file holds the owner's pid (for the message of a run that waits) and is
 removed when the lock is released.  Where ``fcntl`` does not exist (Windows)
 the lock does nothing.
 
+The lock file is created new (``O_CREAT | O_EXCL``) or opened as it is, never
+through a symbolic link (``O_NOFOLLOW``), and written only if it is one of
+ours: a regular file with one name, empty or holding a process id.  Anything
+else planted at ``.NAME.lock`` (a link to a file the run must not touch, a
+second name of such a file, a device, a file with other content) is refused
+with :class:`ForeignLockError`, naming the path, and left exactly as it was.
+
 :func:`check_writable` creates and removes a temporary file where the table
 will be written, so that a table that cannot be written is found before the
 first mesh is computed rather than after the last.
@@ -18,6 +25,8 @@ from __future__ import annotations
 
 import errno
 import os
+import re
+import stat
 import tempfile
 from collections.abc import Callable
 
@@ -31,6 +40,56 @@ def lock_path(output: str | os.PathLike) -> str:
     """The lock file of the table `output`: ``.<name>.lock`` beside it."""
     directory, name = os.path.split(os.path.abspath(os.fspath(output)))
     return os.path.join(directory, f".{name}.lock")
+
+
+class ForeignLockError(OSError):
+    """Something that is not a dentopo lock file is where the lock file goes (left untouched)."""
+
+    def __str__(self) -> str:
+        return f"{self.filename!r} is {self.strerror}"
+
+
+#: Flags that never follow a link and never wait on a FIFO (0 where the system lacks them).
+_SAFE = getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+_PID = re.compile(rb"[0-9]*\n?")
+
+
+def _foreign(path: str, what: str) -> ForeignLockError:
+    return ForeignLockError(
+        errno.EEXIST,
+        f"{what}, not a dentopo lock file: it was left as it is; move it away (dentopo "
+        "creates and removes this file itself)",
+        path,
+    )
+
+
+def _open_lock(path: str) -> int:
+    """Open or create the lock file at `path`, refusing anything that is not one of ours."""
+    while True:
+        try:
+            return os.open(path, os.O_RDWR | os.O_CREAT | os.O_EXCL | _SAFE, 0o666)
+        except FileExistsError:
+            pass
+        try:
+            fd = os.open(path, os.O_RDWR | _SAFE)
+        except FileNotFoundError:  # its holder removed it meanwhile: create it
+            continue
+        except OSError as exc:
+            if exc.errno == errno.ELOOP or os.path.islink(path):
+                raise _foreign(path, "a symbolic link") from None
+            raise
+        try:
+            info = os.fstat(fd)
+            if not stat.S_ISREG(info.st_mode):
+                raise _foreign(path, "not a regular file")
+            if info.st_nlink != 1:
+                raise _foreign(path, f"a file with {info.st_nlink} names (a hard link)")
+            if info.st_size > 32 or not _PID.fullmatch(os.pread(fd, 33, 0)):
+                raise _foreign(path, "a file holding something else than a process id")
+        except BaseException:
+            os.close(fd)
+            raise
+        return fd
 
 
 def _owner(fd: int) -> int | None:
@@ -65,6 +124,8 @@ class OutputLock:
 
         Raises
         ------
+        ForeignLockError
+            If something that is not a dentopo lock file is at its path.
         OSError
             If the lock file cannot be created.
         """
@@ -72,7 +133,7 @@ class OutputLock:
             return
         told = False
         while True:
-            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+            fd = _open_lock(self.path)
             try:
                 try:
                     fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -86,7 +147,7 @@ class OutputLock:
                 # the holder removes the file as it releases it: lock the file that is there
                 mine = os.fstat(fd)
                 try:
-                    there = os.stat(self.path)
+                    there = os.lstat(self.path)
                 except FileNotFoundError:
                     there = None
                 if there is not None and (there.st_dev, there.st_ino) == (mine.st_dev, mine.st_ino):

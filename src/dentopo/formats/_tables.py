@@ -12,6 +12,23 @@ leaves a half-written table and never clobbers an existing one.  Every format
 reads back with its types: numbers keep full double precision (the shortest
 text that reads back to the same float in CSV and TSV, real numbers in JSON
 and Excel), missing values are empty cells (``null`` in JSON).
+
+Text that a spreadsheet would run (OWASP's "CSV injection"): in CSV and TSV,
+a text cell (a file name, an error message, any text column) that begins with
+``=``, ``+``, ``-``, ``@``, a tab or a carriage return is written with an
+apostrophe in front (``'=HYPERLINK(...).ply``), so that Excel and LibreOffice
+show it as text instead of evaluating it.  A text cell that begins with an
+apostrophe gets one more, so the rule can be undone without ambiguity: in a
+CSV or TSV written here, a data cell that begins with an apostrophe had one
+added, and :func:`read_table` (and so ``--resume`` and the report) removes
+exactly one; every name reads back as it was.  Numbers and the header are
+never changed.  Other readers see the apostrophe: the R and MATLAB bridges
+remove it as :func:`read_table` does; ``pandas.read_csv`` keeps it.  Excel
+workbooks store text as text cells (never formulas), and JSON, which no
+spreadsheet evaluates, the raw text: neither is changed.  A file name that is
+not valid UTF-8 (held by Python with surrogates, as :func:`os.fsdecode` gives
+it) is written as its bytes in CSV and TSV, as ``\\udcXX`` escapes in JSON
+(both read back exactly) and with U+FFFD in its place in Excel.
 """
 
 from __future__ import annotations
@@ -510,20 +527,40 @@ class TableFormat:
             self.requires.require()
 
 
+#: How a text cell may begin that a spreadsheet would take for a formula (OWASP), and the
+#: apostrophe that neutralises them (so a cell beginning with one gets another).
+_FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r", "'")
+
+
+def _neutralised(cell: str) -> str:
+    """A text cell as written to CSV and TSV: an apostrophe first if it could run as a formula."""
+    return "'" + cell if cell.startswith(_FORMULA_STARTS) else cell
+
+
+def _restored(cell):
+    """A CSV or TSV cell as it was before :func:`_neutralised`."""
+    return cell[1:] if isinstance(cell, str) and cell.startswith("'") else cell
+
+
 def _delimited_writer(delimiter: str) -> Writer:
     def write(stream, header, rows, text):
         writer = csv.writer(stream, delimiter=delimiter, lineterminator="\n")
+        # csv quotes a cell holding a line terminator only: with "\n" a bare "\r" would end
+        # the row when read back; a row with one is written by a writer that quotes it
+        crlf = csv.writer(stream, delimiter=delimiter, lineterminator="\r\n")
         writer.writerow(header)
-        writer.writerows([text(cell) for cell in row] for row in rows)
+        for row in rows:
+            line = [_neutralised(cell) if isinstance(cell, str) else text(cell) for cell in row]
+            (crlf if any("\r" in cell for cell in line) else writer).writerow(line)
 
     return write
 
 
 def _delimited_reader(delimiter: str) -> Reader:
     def read(path):
-        with open(path, encoding="utf-8", newline="") as stream:
+        with open(path, encoding="utf-8", errors="surrogateescape", newline="") as stream:
             reader = csv.DictReader(stream, delimiter=delimiter)
-            rows = list(reader)
+            rows = [{name: _restored(cell) for name, cell in row.items()} for row in reader]
             return list(reader.fieldnames or ()), rows
 
     return read
@@ -535,11 +572,18 @@ def _json_value(value):
     return value
 
 
+#: Lone surrogates: how Python holds the bytes of a file name that is not UTF-8.
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
 def _write_json(stream, header, rows, text) -> None:
     data = [
         {name: _json_value(cell) for name, cell in zip(header, row, strict=True)} for row in rows
     ]
-    json.dump(data, stream, indent=1, ensure_ascii=False, allow_nan=False)
+    text = json.dumps(data, indent=1, ensure_ascii=False, allow_nan=False)
+    # the raw text (no escaping for spreadsheets), in UTF-8; a name that is not UTF-8 keeps
+    # its bytes as JSON's \\udcXX escapes (surrogates occur only inside strings)
+    stream.write(_SURROGATE.sub(lambda m: f"\\u{ord(m.group()):04x}", text))
     stream.write("\n")
 
 
@@ -572,7 +616,8 @@ def _write_xlsx(stream, header, rows, text) -> None:
         if isinstance(value, float):  # Excel has no inf or nan: keep them as text
             return WriteOnlyCell(sheet, value=repr(value))
         if isinstance(value, str):
-            item = WriteOnlyCell(sheet, value=ILLEGAL_CHARACTERS_RE.sub("\ufffd", value))
+            value = _SURROGATE.sub("\ufffd", ILLEGAL_CHARACTERS_RE.sub("\ufffd", value))
+            item = WriteOnlyCell(sheet, value=value)
             item.data_type = "s"  # a text starting with "=" is text, not a formula
             return item
         return WriteOnlyCell(sheet, value=value)

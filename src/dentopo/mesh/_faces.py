@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import njit
-from ._topology import corners_by_vertex
+from ._topology import FEW_CORNERS, corners_by_vertex
 
 
 @njit(cache=True, inline="always")
@@ -112,11 +112,14 @@ def high_faces(vertices: np.ndarray, faces: np.ndarray, height: float) -> np.nda
 
 @njit(cache=True)
 def _first_faces(faces, keep, start, corner, first):  # pragma: no cover
+    n = start.shape[0] - 1
     for f in range(faces.shape[0]):
         first[f] = keep[f]
         if not keep[f]:
             continue
         p, q, r = _sorted3(faces[f, 0], faces[f, 1], faces[f, 2])
+        if start[p + 1] - start[p] > FEW_CORNERS:
+            continue  # a long group: sorted below
         for i in range(start[p], start[p + 1]):
             g = corner[i] // 3
             if g >= f:
@@ -126,6 +129,30 @@ def _first_faces(faces, keep, start, corner, first):  # pragma: no cover
                 if s == p and t == q and u == r:
                     first[f] = False
                     break
+    # the faces whose lowest vertex has many corners (a fan on one vertex): sorted by
+    # their other two vertices, each run of equal ones in face order (a stable sort)
+    for p in range(n):
+        lo = start[p]
+        hi = start[p + 1]
+        if hi - lo <= FEW_CORNERS:
+            continue
+        group = np.empty(hi - lo, np.int64)
+        key = np.empty(hi - lo, np.int64)
+        count = 0
+        for i in range(lo, hi):
+            g = corner[i] // 3
+            if not keep[g] or (i > lo and corner[i - 1] // 3 == g):
+                continue  # dropped, or its corner at p seen already
+            s, t, u = _sorted3(faces[g, 0], faces[g, 1], faces[g, 2])
+            if s != p:
+                continue  # compared at its own lowest vertex
+            group[count] = g
+            key[count] = t * n + u
+            count += 1
+        order = np.argsort(key[:count], kind="mergesort")
+        for k in range(1, count):
+            if key[order[k]] == key[order[k - 1]]:
+                first[group[order[k]]] = False
 
 
 @njit(cache=True)

@@ -13,6 +13,9 @@ mesh (a tooth crown cut at the cervix, a scan with holes) is closed first:
 Both steps are linear in the mesh size: the corners are listed by vertex
 (a counting sort), and every edge is found among the few corners of its two
 ends by compiled passes; the walk is compiled too.  About 0.1 s for 2M faces.
+A vertex of more than ``FEW_CORNERS`` corners (a fan of a million faces on one
+vertex, as some scanners leave) has its corners sorted, and its edges are
+found by bisection: O(m log degree) instead of the square of its degree.
 """
 
 from __future__ import annotations
@@ -92,10 +95,76 @@ def corners_by_vertex(
     return start, corner, following
 
 
+#: A vertex with more corners than this has them sorted by the vertex that follows
+#: (``sort_long_groups``), and an edge at it is looked for by bisection: a fan of a
+#: million faces on one vertex (as some scanners leave) then costs O(m log degree),
+#: where a scan of the vertex's corners for each of its edges would be quadratic.
+FEW_CORNERS = 32
+
+
+@njit(cache=True)
+def _sort_long_groups(start, following):  # pragma: no cover
+    """Sort ``following`` within each vertex's group of more than ``FEW_CORNERS`` corners.
+
+    In place; the groups of fewer corners stay in corner order.  Only for the
+    callers that use ``following`` alone (``corner`` no longer lines up).
+    """
+    for v in range(start.shape[0] - 1):
+        lo = start[v]
+        hi = start[v + 1]
+        if hi - lo > FEW_CORNERS:
+            following[lo:hi] = np.sort(following[lo:hi])
+
+
+@njit(cache=True, inline="always")
+def _count_following(start, following, a, b):  # pragma: no cover
+    """How many corners of vertex `a` are followed by `b` (``_sort_long_groups`` done)."""
+    lo = start[a]
+    hi = start[a + 1]
+    if hi - lo <= FEW_CORNERS:
+        same = 0
+        for i in range(lo, hi):
+            if following[i] == b:
+                same += 1
+        return same
+    first = lo
+    last = hi
+    while first < last:  # the first entry >= b
+        mid = (first + last) // 2
+        if following[mid] < b:
+            first = mid + 1
+        else:
+            last = mid
+    stop = first
+    last = hi
+    while stop < last:  # the first entry > b
+        mid = (stop + last) // 2
+        if following[mid] <= b:
+            stop = mid + 1
+        else:
+            last = mid
+    return stop - first
+
+
+def _sorted_corners(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, np.ndarray]:
+    """``start`` and ``following`` of :func:`corners_by_vertex`, long groups sorted."""
+    start, _, following = corners_by_vertex(faces, n_vertices)
+    _sort_long_groups(start, following)
+    return start, following
+
+
 @njit(cache=True)
 def _any_repeated(start, following):  # pragma: no cover
-    """Whether some directed edge occurs twice: a later corner of a vertex with the same next."""
+    """Whether some directed edge occurs twice: a later corner of a vertex with the same next.
+
+    Long groups must be sorted (``_sort_long_groups``): their repeats are neighbours.
+    """
     for a in range(start.shape[0] - 1):
+        if start[a + 1] - start[a] > FEW_CORNERS:
+            for i in range(start[a] + 1, start[a + 1]):
+                if following[i] == following[i - 1]:
+                    return True
+            continue
         for i in range(start[a], start[a + 1]):
             for j in range(i + 1, start[a + 1]):
                 if following[i] == following[j]:
@@ -108,25 +177,17 @@ def _alone(faces, start, following, alone):  # pragma: no cover
     """Per directed edge (corner-major), whether no other edge of the faces joins its ends.
 
     The reverse edge is looked for first: on a surface nearly every edge has
-    one, which ends the search early.
+    one, which ends the search early.  Long groups must be sorted
+    (``_sort_long_groups``).
     """
     m = faces.shape[0]
     for f in range(m):
         for c in range(3):
             a = faces[f, c]
             b = faces[f, (c + 1) % 3]
-            single = True
-            if a != b:
-                for i in range(start[b], start[b + 1]):
-                    if following[i] == a:
-                        single = False
-                        break
+            single = a == b or _count_following(start, following, b, a) == 0
             if single:
-                same = 0
-                for i in range(start[a], start[a + 1]):
-                    if following[i] == b:
-                        same += 1
-                single = same == 1
+                single = _count_following(start, following, a, b) == 1
             alone[c * m + f] = single
 
 
@@ -136,23 +197,19 @@ def _count_uses(faces, start, following, uses, twice):  # pragma: no cover
 
     ``uses`` gets the count of undirected edges between the two ends (either
     direction), ``twice[0]`` whether some directed edge occurs more than once.
+    Long groups must be sorted (``_sort_long_groups``).
     """
     m = faces.shape[0]
     for f in range(m):  # face by face: the three edges' ends are near in memory
         for c in range(3):
             a = faces[f, c]
             b = faces[f, (c + 1) % 3]
-            same = 0
-            for i in range(start[a], start[a + 1]):
-                if following[i] == b:
-                    same += 1
+            same = _count_following(start, following, a, b)
             if same > 1:
                 twice[0] = True
             opposite = 0
             if a != b:
-                for i in range(start[b], start[b + 1]):
-                    if following[i] == a:
-                        opposite += 1
+                opposite = _count_following(start, following, b, a)
             uses[c * m + f] = same + opposite
 
 
@@ -176,7 +233,7 @@ def edge_uses(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, bool]:
         disagree on orientation, or more than two faces on one edge).
     """
     faces = np.ascontiguousarray(faces, dtype=np.int64)
-    start, _, following = corners_by_vertex(faces, n_vertices)
+    start, following = _sorted_corners(faces, n_vertices)
     uses = np.empty(3 * len(faces), dtype=np.int32)
     twice = np.zeros(1, dtype=np.bool_)
     _count_uses(faces, start, following, uses, twice)
@@ -223,7 +280,7 @@ def orient_consistently(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     by more than two faces are ignored (no consistent orientation exists there).
     """
     m = len(faces)
-    start, _, following = corners_by_vertex(faces, n_vertices)
+    start, following = _sorted_corners(faces, n_vertices)
     if not _any_repeated(start, following):
         return faces  # no directed edge used twice: already consistent
     del start, following
@@ -259,7 +316,7 @@ def boundary_edges(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     m = len(faces)
     if m == 0:
         return np.zeros((0, 2), dtype=faces.dtype)
-    start, _, following = corners_by_vertex(faces, n_vertices)
+    start, following = _sorted_corners(faces, n_vertices)
     alone = np.empty(3 * m, dtype=np.bool_)
     _alone(np.ascontiguousarray(faces, dtype=np.int64), start, following, alone)
     once = np.flatnonzero(alone)

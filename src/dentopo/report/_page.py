@@ -16,6 +16,14 @@ WebGL plots (the scatter matrix) compile their drawing code at run time, and
 without it they show "WebGL is not supported" instead.  A small status
 element records for checks that the scripts ran (``data-ready``), how many
 thumbnails decoded, and any error reported to the console or left uncaught.
+
+Names are text wherever they appear: HTML-escaped in the table and lists, in
+the JSON block with ``<``, ``>`` and ``&`` escaped
+(:func:`dentopo.figures._provenance.html_json`: a mesh named
+``<!--<script>x.ply`` cannot keep the block open), and given to plotly (which
+reads some HTML in its texts: links, bold, line breaks) with ``&``, ``<`` and
+``>`` as entities, so that a group named ``<a href=...>`` is drawn as those
+characters, not as a link.
 """
 
 from __future__ import annotations
@@ -29,6 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..figures import ColorScale, diverging_rgb
+from ..figures._provenance import html_json
 from ._collect import METRIC_LABELS, Specimen
 from ._payload import COLOR_STEPS
 
@@ -124,7 +133,7 @@ def _gradient() -> str:
 
 
 def _json_script(element_id: str, data) -> str:
-    text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    text = html_json(json.dumps(data, separators=(",", ":"), allow_nan=False))
     return f'<script type="application/json" id="{element_id}">{text}</script>'
 
 
@@ -267,8 +276,8 @@ def render_page(content: PageContent) -> str:
     )
     return (
         _HEAD.replace("%CSP%", _CSP)
-        .replace("%TITLE%", esc(content.title))
         .replace("%GRADIENT%", _gradient())
+        .replace("%TITLE%", esc(content.title))  # last: a title's "%CSP%" stays as it is
         + "<script>"
         + content.plotly_js
         + "</script>\n</head>\n<body>\n"
@@ -419,6 +428,12 @@ groupFilter.addEventListener("change", applyFilter);
 statusFilter.addEventListener("change", applyFilter);
 applyFilter();
 
+// plotly reads some HTML in the texts it draws (<a href>, <b>, <br>, &amp; ...): names,
+// groups and labels are text, so their &, < and > are given to it as entities.
+function plain(text) {
+  return String(text).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;");
+}
+
 function groupRows(g, m) {
   return D.specimens.filter((s) => s.group === g && s.values[m] !== null);
 }
@@ -429,16 +444,18 @@ function drawGroups() {
     const traces = D.groups.map((name, g) => {
       const rows = groupRows(g, m);
       return {
-        type: "box", name: name, y: rows.map((s) => s.values[m]),
-        text: rows.map((s) => s.name), customdata: rows.map((s) => s.index),
+        type: "box", name: plain(name), y: rows.map((s) => s.values[m]),
+        text: rows.map((s) => plain(s.name)), customdata: rows.map((s) => s.index),
         boxpoints: "all", jitter: 0.45, pointpos: 0,
         marker: { color: D.colors[g], size: 5, opacity: 0.8 },
         line: { color: D.colors[g] }, fillcolor: "rgba(0,0,0,0)",
-        hovertemplate: "%{text}<br>%{y:.4g}<extra>" + name + "</extra>",
+        // the name through a variable: a "%{...}" in it is text, not part of the template
+        hovertemplate: "%{text}<br>%{y:.4g}<extra>%{fullData.name}</extra>",
       };
     });
     Plotly.newPlot(div, traces, {
-      title: { text: metric.label, x: 0.01, xanchor: "left" }, showlegend: false, height: 340,
+      title: { text: plain(metric.label), x: 0.01, xanchor: "left" }, showlegend: false,
+      height: 340,
       margin: { l: 60, r: 10, t: 40, b: 60 },
     }, PLOT_CONFIG);
     div.on("plotly_click", pickPoint);
@@ -448,14 +465,14 @@ function drawGroups() {
   const traces = D.groups.map((name, g) => {
     const rows = D.specimens.filter((s) => s.group === g);
     return {
-      type: "splom", name: name,
+      type: "splom", name: plain(name),
       dimensions: D.metrics.map((metric, m) => ({
-        label: metric.label, values: rows.map((s) => s.values[m]),
+        label: plain(metric.label), values: rows.map((s) => s.values[m]),
       })),
-      text: rows.map((s) => s.name), customdata: rows.map((s) => s.index),
+      text: rows.map((s) => plain(s.name)), customdata: rows.map((s) => s.index),
       marker: { color: D.colors[g], size: 5, opacity: 0.8 },
       diagonal: { visible: false }, showupperhalf: false,
-      hovertemplate: "%{text}<extra>" + name + "</extra>",
+      hovertemplate: "%{text}<extra>%{fullData.name}</extra>",
     };
   });
   Plotly.newPlot(splom, traces, {

@@ -87,9 +87,23 @@ from ._relief import (
     relief_rate_below_median,
     shape_index,
 )
-from ._rfi import RFI_FIELDS, AlphaAdjustmentError, RFIResult, rfi
+from ._rfi import (
+    RFI_FIELDS,
+    AlphaAdjustmentError,
+    FootprintError,
+    FootprintWarning,
+    RFIResult,
+    rfi,
+)
 from ._slope import SLOPE_FIELDS, SlopeResult, slope
-from ._surface import Surface, molar_face_areas, molar_scale, prepare_surface
+from ._surface import (
+    DUPLICATE_MODES,
+    Surface,
+    check_duplicates,
+    molar_face_areas,
+    molar_scale,
+    prepare_surface,
+)
 
 __all__ = [
     "ALIASES",
@@ -107,6 +121,7 @@ __all__ = [
     "DOOLKIT_METRICS",
     "DOOLKIT_ROTATION_KEYS",
     "DOOLKIT_SLOPE_FIELDS",
+    "DUPLICATE_MODES",
     "GROUPS",
     "HYPSODONTY_FIELDS",
     "INCLINATION_FIELDS",
@@ -129,7 +144,9 @@ __all__ = [
     "DoolkitOPCResult",
     "DoolkitSlopeResult",
     "ElevationResult",
+    "FootprintError",
     "FootprintResult",
+    "FootprintWarning",
     "HypsodontyResult",
     "InclinationResult",
     "OPCRResult",
@@ -147,6 +164,7 @@ __all__ = [
     "check_arc_options",
     "check_choice",
     "check_classic_options",
+    "check_duplicates",
     "check_find_alpha",
     "check_finite",
     "check_int",

@@ -18,6 +18,7 @@ import numpy as np
 import trimesh
 
 from . import _kernels
+from ._orientation import Orientation, check_orient
 from ._surface import Surface, molar_scale, prepare_surface
 
 BOUNDARY_MODES = ("vertex", "leg", "none")
@@ -86,7 +87,12 @@ class ClassicDNEResult:
     excluded : (m,) bool
         True for faces whose energy is set to zero as boundary faces or outliers.
     mesh : trimesh.Trimesh
-        The mesh the per-face arrays refer to, in mesh units (a private copy).
+        The mesh the per-face arrays refer to, in mesh units (a private copy;
+        its faces rewound outward if ``orient="auto"`` rewound them).
+    orientation : Orientation
+        How the faces are wound (and which way the crown points, which
+        classic DNE does not depend on: it is never turned), and whether the
+        faces were rewound before measuring (``orient="auto"``).
     """
 
     dne: float
@@ -109,6 +115,7 @@ class ClassicDNEResult:
     face_kappa: np.ndarray = field(repr=False, compare=False)
     excluded: np.ndarray = field(repr=False, compare=False)
     mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    orientation: Orientation | None = field(default=None, compare=False)
 
     @property
     def convex(self) -> np.ndarray:
@@ -215,6 +222,7 @@ def classic_dne(
     kappa: float = 0.0,
     boundary: str = "vertex",
     outlier_mode: str = "combined",
+    orient: str = "as-is",
 ) -> ClassicDNEResult:
     """Classic DNE (Bunn et al. 2011) with molaR 6.0's convex/concave split.
 
@@ -225,8 +233,10 @@ def classic_dne(
        vertices merged, as molaR's reader does; a file holding several meshes
        raises: pass ``load_mesh(path, geometry=NAME)``); arrays and meshes are used as
        given, after molaR's cleaning (faces of zero area dropped, then
-       vertices no face uses).  No other cleaning, no
-       re-orientation of faces.  The caller's mesh is never modified.
+       vertices no face uses; a face listed twice is measured once unless the
+       surface was prepared with ``duplicates="keep"``).  The faces' winding
+       is checked (see `orient`); the crown is never turned (nothing here
+       depends on which way it points).  The caller's mesh is never modified.
     2. **Size normalisation.** All coordinates are multiplied by
        ``100 / size``, where ``size`` is the root sum of squares, over all
        vertices, of each vertex's coordinates centred on the mean of its *own*
@@ -278,6 +288,13 @@ def classic_dne(
         Which faces at the mesh boundary are excluded (molaR's ``BoundaryDiscard``).
     outlier_mode : {"combined", "separate"}, default "combined"
         One outlier quantile for all faces, or one per class (molaR's ``oex``).
+    orient : {"as-is", "auto"}, default "as-is"
+        The convex/concave split assumes the faces are wound outward (with
+        every face wound inward, the convex and concave parts swap; ``dne``
+        does not change).  ``"as-is"`` measures the faces as wound (molaR's
+        behaviour) and warns if they are wound inward; ``"auto"`` rewinds
+        such faces first (see :func:`dentopo.topography.find_orientation`).
+        The result's ``orientation`` says what was found and done.
 
     Returns
     -------
@@ -288,6 +305,11 @@ def classic_dne(
     ------
     TypeError, ValueError
         For unusable meshes or options; the message names the problem.
+
+    Warns
+    -----
+    UserWarning
+        When faces are wound inward (rewound with ``orient="auto"``).
 
     References
     ----------
@@ -316,8 +338,11 @@ def classic_dne(
     kappa = _check_real("kappa", kappa, low=-np.inf, high=np.inf)
     boundary = _check_choice("boundary", boundary, BOUNDARY_MODES)
     outlier_mode = _check_choice("outlier_mode", outlier_mode, OUTLIER_MODES)
+    orient = check_orient(orient)
 
-    surface = prepare_surface(mesh)  # a Surface given: its cleaned form, never turned
+    # a Surface given: its cleaned form; rewound if asked, never turned
+    surface = prepare_surface(mesh).wound(orient)
+    surface.warn_orientation(winding_only=True)
     vertices, faces = surface.vertices, surface.faces
 
     scaled = vertices * molar_scale(vertices)
@@ -359,4 +384,5 @@ def classic_dne(
         face_kappa=values,
         excluded=excluded,
         mesh=surface.trimesh(),
+        orientation=surface.orientation,
     )

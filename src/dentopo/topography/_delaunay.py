@@ -170,7 +170,11 @@ def _add(triangles, halfedges, count, i, j, k, a, b, c):
 
 @njit(cache=True)
 def _pseudo_angle(dx, dy):
-    p = dx / (abs(dx) + abs(dy))
+    """A number in [0, 1) that grows with the angle of (dx, dy); 0 for (0, 0)."""
+    size = abs(dx) + abs(dy)
+    if size == 0.0:  # a point on the seed circle's centre: the sweep then gives up
+        return 0.0
+    p = dx / size
     return (3.0 - p if dy > 0 else 1.0 + p) / 4.0
 
 
@@ -220,6 +224,8 @@ def _sweep(points, triangles, halfedges):
     distance = np.empty(n)
     for i in range(n):
         distance[i] = (points[i, 0] - cx) ** 2 + (points[i, 1] - cy) ** 2
+        if distance[i] == 0.0:
+            return -1  # a point on the seed's circumcentre (rounding): qhull decides
     order = np.argsort(distance)
 
     hull_next = np.full(n, -1, dtype=np.int64)

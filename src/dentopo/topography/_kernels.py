@@ -294,7 +294,8 @@ def circumcentres(points, simplices, ux, uy):
     """Each triangle's circumcentre relative to its first vertex (the radius is its hypot).
 
     ``b, c`` are the other two vertices minus the first; ``d = 2 (b x c)``;
-    ``ux = (c_y |b|^2 - b_y |c|^2) / d``, ``uy = (b_x |c|^2 - c_x |b|^2) / d``.
+    ``ux = (c_y |b|^2 - b_y |c|^2) / d``, ``uy = (b_x |c|^2 - c_x |b|^2) / d``;
+    infinite for a flat triangle (``d = 0``, which qhull can return on collinear points).
     """
     for t in range(simplices.shape[0]):
         p, q, r = simplices[t, 0], simplices[t, 1], simplices[t, 2]
@@ -303,115 +304,14 @@ def circumcentres(points, simplices, ux, uy):
         cx = points[r, 0] - points[p, 0]
         cy = points[r, 1] - points[p, 1]
         d = 2.0 * (bx * cy - by * cx)
+        if d == 0.0:
+            ux[t] = np.inf
+            uy[t] = np.inf
+            continue
         bb = bx * bx + by * by
         cc = cx * cx + cy * cy
         ux[t] = (cy * bb - by * cc) / d
         uy[t] = (bx * cc - cx * bb) / d
-
-
-@njit(cache=True)
-def _not_obtuse(points, i, j, apex):
-    """Whether the angle at `apex` of the triangle (i, j, apex) is at most 90 degrees."""
-    ax = points[i, 0] - points[apex, 0]
-    ay = points[i, 1] - points[apex, 1]
-    bx = points[j, 0] - points[apex, 0]
-    by = points[j, 1] - points[apex, 1]
-    return ax * bx + ay * by >= 0
-
-
-@njit(cache=True)
-def alpha_intervals(points, simplices, neighbors, radius, ends, alpha_min, alpha_max, hull):
-    """Every Delaunay edge once, with the alphas for which it is on the alpha shape's boundary.
-
-    Edge: side k of triangle t (opposite its vertex k), from the triangle with
-    the lower index or the only one, in the order of ``(t, k)``; ``hull``
-    where no triangle lies across it.  ``alpha_min`` is half the edge's
-    length when its midpoint lies on its Voronoi edge (both opposite angles
-    at most 90 degrees; only the one for a hull edge), else the smaller
-    circumradius (`radius`) of its triangles; ``alpha_max`` the larger
-    (infinite on the hull).  Returns the number of edges written.
-    """
-    count = 0
-    for t in range(simplices.shape[0]):
-        for k in range(3):
-            o = neighbors[t, k]
-            if o != -1 and o < t:
-                continue
-            i = simplices[t, (k + 1) % 3]
-            j = simplices[t, (k + 2) % 3]
-            ends[count, 0] = i
-            ends[count, 1] = j
-            on = _not_obtuse(points, i, j, simplices[t, k])
-            r_t = radius[t]
-            if o == -1:
-                r_o = np.inf
-            else:
-                r_o = radius[o]
-                if on:
-                    apex = simplices[o, 0] + simplices[o, 1] + simplices[o, 2] - i - j
-                    on = _not_obtuse(points, i, j, apex)
-            if on:
-                alpha_min[count] = 0.5 * math.hypot(
-                    points[j, 0] - points[i, 0], points[j, 1] - points[i, 1]
-                )
-            else:
-                alpha_min[count] = min(r_t, r_o)
-            alpha_max[count] = max(r_t, r_o)
-            hull[count] = o == -1
-            count += 1
-    return count
-
-
-@njit(cache=True)
-def loops(segments, n):
-    """The number of closed loops of segments that meet two at every point they use."""
-    first = np.full(n, -1, dtype=np.int64)
-    second = np.full(n, -1, dtype=np.int64)
-    for s in range(segments.shape[0]):
-        for a, b in ((segments[s, 0], segments[s, 1]), (segments[s, 1], segments[s, 0])):
-            if first[a] < 0:
-                first[a] = b
-            else:
-                second[a] = b
-    seen = np.zeros(n, dtype=np.bool_)
-    count = 0
-    for s in range(segments.shape[0]):
-        start = segments[s, 0]
-        if seen[start]:
-            continue
-        count += 1
-        previous, point = -1, start
-        while not seen[point]:
-            seen[point] = True
-            step = first[point] if first[point] != previous else second[point]
-            previous, point = point, step
-    return count
-
-
-@njit(cache=True)
-def loop_order(segments, n, order):
-    """The points of one closed loop of segments in order, into `order`.
-
-    The loop starts at its lowest point index and runs first to the lower
-    of that point's two neighbours, whatever the order of `segments`.
-    """
-    first = np.full(n, -1, dtype=np.int64)
-    second = np.full(n, -1, dtype=np.int64)
-    start = n
-    for s in range(segments.shape[0]):
-        for a, b in ((segments[s, 0], segments[s, 1]), (segments[s, 1], segments[s, 0])):
-            if first[a] < 0:
-                first[a] = b
-            else:
-                second[a] = b
-            start = min(start, a)
-    previous = start
-    point = min(first[start], second[start])
-    order[0] = start
-    for k in range(1, order.shape[0]):
-        order[k] = point
-        step = first[point] if first[point] != previous else second[point]
-        previous, point = point, step
 
 
 @njit(cache=True)

@@ -318,9 +318,11 @@ def opc(
         When positive, count the patches with area greater than this fraction
         of the total surface area instead (molaR's ``minimum_area``); in [0, 1).
     orient : {"as-is", "auto"}, default "as-is"
-        The metric assumes the crown points to +z.  ``"as-is"`` measures the
-        mesh as it lies (molaR's behaviour) and warns if the crown points to
-        -z; ``"auto"`` turns such a crown first (see
+        The metric assumes the crown points to +z and its faces are wound
+        outward.  ``"as-is"`` measures the mesh as it lies (molaR's
+        behaviour) and warns if the crown points to -z, its faces are wound
+        inward or it is flat; ``"auto"`` rewinds faces wound inward and turns
+        a crown pointing to -z first (never a flat one: see
         :func:`dentopo.topography.find_orientation`).  Either way the result's
         ``orientation`` says what was found and done.
 
@@ -336,7 +338,8 @@ def opc(
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        With ``orient="as-is"``, when the crown points to -z; when its faces
+        are wound inward (rewound or not) or it is flat.
 
     References
     ----------
@@ -410,7 +413,8 @@ def opcr(
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        With ``orient="as-is"``, when the crown points to -z; when its faces
+        are wound inward (rewound or not) or it is flat.
 
     References
     ----------

@@ -1,19 +1,39 @@
-"""Which way a crown points, and turning it to molaR's convention (+z).
+"""Which way a crown points, which way its faces are wound, and turning it to molaR's convention.
 
 Slope, OPC/OPCR and RFI assume that the occlusal plane is the x-y plane and
 that the crown points to +z; molaR never checks.  A crown pointing to -z gets
 a meaningless slope (about 106 degrees on the paper's crowns), mirrored OPC
-aspects and a footprint of the wrong side.  This module finds the direction
-along z a crown points to, by a stated rule, and turns it if asked.
+aspects and a footprint of the wrong side.  Slope, OPC and classic DNE's
+convex/concave split also assume the faces are wound outward (counter-clockwise
+seen from outside, so that ``(v2 - v1) x (v3 - v1)`` points out of the tooth):
+with every face wound inward, slope becomes 180 degrees minus itself, every
+OPC aspect turns by 180 degrees and classic DNE's convex and concave parts
+swap.  This module finds both, by stated rules, and puts them right if asked.
 
-The rule
---------
+The rules
+---------
+* **Winding.** The surface is closed over each loop of its open boundary by
+  a fan of triangles around the loop's mean vertex (running each boundary edge
+  backwards, so that the fan is wound as its neighbours), and the signed
+  volume of the closed surface is taken.  Faces wound outward enclose a
+  positive volume, faces wound inward a negative one; this is a property of
+  the surface, not of its pose.  Faces wound against their neighbours (a
+  shared edge run the same way by both) are first made to agree, patch by
+  patch (:func:`dentopo.mesh.orient_consistently`); the faces whose winding
+  then differs from the outward one are the ones wound inward.
+* **Flat.** A surface whose closed volume ``|V|`` is at most
+  ``FLAT_TOLERANCE * A**1.5`` (``A`` its area; the ratio does not depend on
+  units or pose: a hemisphere gives 0.13, the paper's crowns 0.08, a dome of
+  height h over radius R about ``0.28 h / R``) encloses nothing: it has no
+  inside and no outside, no up and no down.  Its direction and its winding are
+  ``"undetermined"``: it is warned about and never turned or rewound.  This
+  is the rule for a plane in any pose, noise or not.
 * **An open crown** (a surface with a boundary: the usual cut-off crown)
   points away from its open base: it points to +z when the boundary edges'
   length-weighted mean height lies below the surface's area-weighted mean
-  height, else to -z.  This does not depend on how the faces are oriented.
+  height, else to -z.  This does not depend on how the faces are wound.
 * **A closed surface** points to the side its area faces: with its faces
-  oriented outward, the area of the faces whose normal has a positive z
+  wound outward, the area of the faces whose normal has a positive z
   component is compared with that of the faces whose normal has a negative
   one (a crown's worn, cusped occlusal side has more area than its base).
   When neither side has at least 60 % of the area (a whole tooth, a bone),
@@ -22,65 +42,130 @@ The rule
 Turning a crown that points to -z is the rotation by 180 degrees about the
 x axis, ``(x, y, z) -> (x, -y, -z)``: a proper rotation, so faces keep their
 vertex order and every orientation-free quantity (areas, DNE) is unchanged.
+Rewinding a face reverses its vertex order, ``(a, b, c) -> (c, b, a)``: it
+undoes exactly the usual flip (``faces[:, ::-1]``, trimesh's ``invert``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
-from ..mesh import boundary_edges, outward_faces
+from ..mesh import boundary_edges, orient_consistently
 from . import _kernels
 
-#: ``orient``: ``"as-is"`` (molaR's behaviour: never turn) or ``"auto"``.
+#: ``orient``: ``"as-is"`` (molaR's behaviour: never turn, never rewind) or ``"auto"``.
 ORIENT_MODES = ("as-is", "auto")
 
 #: The rotation that turns a crown pointing to -z to +z (180 degrees about x).
 TURN = np.diag([1.0, -1.0, -1.0])
 
-
 #: A closed surface points to a side only if that side has this much more of its area.
 CLOSED_MARGIN = 0.2
+
+#: A surface is flat when the volume it encloses (closed over its open boundary) is at most
+#: this times its area to the power 3/2 (a scale-free ratio: 0.13 for a hemisphere).
+FLAT_TOLERANCE = 1e-3
+
+#: ``Orientation.winding``: how the faces are wound.
+WINDINGS = ("outward", "inward", "mixed", "undetermined")
 
 
 @dataclass(frozen=True)
 class Orientation:
-    """Which way a crown points along z, by which rule, and whether it was turned.
+    """Which way a crown points along z and its faces are wound, and what was done about it.
 
     Attributes
     ----------
     points : str
         ``"+z"``, ``"-z"`` or ``"undetermined"``, as found on the mesh given.
     rule : str
-        ``"open base"`` (an open surface: away from its boundary) or
-        ``"area"`` (a closed surface: the side its area faces).
+        ``"open base"`` (an open surface: away from its boundary), ``"area"``
+        (a closed surface: the side its area faces) or ``"flat"`` (the surface
+        encloses no volume: no up or down).
     turned : bool
         Whether the metrics measured the crown turned to +z.
+    winding : str
+        ``"outward"``, ``"inward"`` (every face), ``"mixed"`` (`inward_faces`
+        of them, against the rest) or ``"undetermined"`` (a flat surface).
+    rewound : bool
+        Whether the metrics measured the faces wound outward (``orient="auto"``).
+    inward_faces : int
+        How many faces were found wound inward.
+    faces : int
+        How many faces the surface has.
     """
 
     points: str
     rule: str
     turned: bool = False
+    winding: str = "outward"
+    rewound: bool = False
+    inward_faces: int = 0
+    faces: int = 0
 
     @property
     def wrong_way(self) -> bool:
         """Whether the crown, as measured, points to -z (against molaR's convention)."""
         return self.points == "-z" and not self.turned
 
+    @property
+    def wound_inward(self) -> bool:
+        """Whether some faces were found wound inward (rewound or not)."""
+        return self.winding in ("inward", "mixed")
+
     def __str__(self) -> str:
-        """The ``orientation`` column: ``+z``, ``-z`` or ``-z, turned to +z``."""
-        return f"{self.points}, turned to +z" if self.turned else self.points
+        """The ``orientation`` column: ``-z, turned to +z``, ``-z; wound inward, rewound``."""
+        text = f"{self.points}, turned to +z" if self.turned else self.points
+        if self.winding == "inward":
+            text += "; wound inward"
+        elif self.winding == "mixed":
+            text += f"; {self.inward_faces} faces wound inward"
+        if self.wound_inward and self.rewound:
+            text += ", rewound"
+        return text
+
+    def messages(self, *, winding_only: bool = False) -> tuple[str, ...]:
+        """The warnings for what was found, one per problem (``winding_only``: classic DNE's)."""
+        found = []
+        if self.wrong_way and not winding_only:
+            why = "its open base lies above it" if self.rule == "open base" else "its area faces -z"
+            found.append(
+                f"the crown points to -z ({why}); slope, OPC and RFI assume it points to +z, "
+                "as molaR does: turn it with orient='auto' (command line: --orient auto)"
+            )
+        if self.rule == "flat" and not winding_only:
+            found.append(
+                "the surface is flat (it encloses no volume over its open base): it has no up or "
+                "down, so its direction is undetermined and it was not turned; slope, OPC and RFI "
+                "measure it as it lies"
+            )
+        if self.wound_inward:
+            which = (
+                "every face is wound inward"
+                if self.winding == "inward"
+                else f"{self.inward_faces} of {self.faces} faces are wound inward, against the rest"
+            )
+            effect = (
+                "(normals into the tooth: slope reads 180 degrees minus itself, OPC's aspects "
+                "turn by 180 degrees and classic DNE's convex and concave parts swap)"
+            )
+            fix = (
+                "they were rewound outward before measuring (orient='auto')"
+                if self.rewound
+                else "measured as wound, as molaR does: rewind them with orient='auto' "
+                "(command line: --orient auto)"
+            )
+            found.append(f"{which} {effect}; {fix}")
+        return tuple(found)
 
     def warning(self) -> str | None:
-        """The warning for a crown measured pointing the wrong way, or None."""
-        if not self.wrong_way:
-            return None
-        why = "its open base lies above it" if self.rule == "open base" else "its area faces -z"
-        return (
-            f"the crown points to -z ({why}); slope, OPC and RFI assume it points to +z, "
-            "as molaR does: turn it with orient='auto' (command line: --orient auto)"
-        )
+        """The warnings of :meth:`messages` in one text, or None if there is nothing to say."""
+        found = self.messages()
+        return " ".join(found) if found else None
 
 
 def check_orient(orient) -> str:
@@ -90,47 +175,125 @@ def check_orient(orient) -> str:
     return orient.lower()
 
 
+def _face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    tri = vertices[faces]
+    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+
+
+def closed_volume(
+    vertices: np.ndarray, faces: np.ndarray, boundary: np.ndarray, cross: np.ndarray | None = None
+) -> float:
+    """Signed volume of the surface closed by a fan over each loop of its `boundary` edges.
+
+    Each connected set of boundary edges gets a fan around its mean vertex,
+    each edge run backwards (so that the fan is wound as the faces next to it);
+    coordinates are taken about the mean vertex, so that the sum is well
+    conditioned far from the origin.  Positive for faces wound outward.
+    `cross`: the faces' ``(v2 - v1) x (v3 - v1)``, if the caller has them
+    (``det(x1, x2, x3) = x1 . ((x2 - x1) x (x3 - x1))``).
+    """
+    origin = vertices.mean(axis=0)
+    points = vertices - origin
+    if cross is None:
+        tri = points[faces]
+        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    volume = np.einsum("ij,ij->", points[faces[:, 0]], cross)
+    if len(boundary):
+        n = len(vertices)
+        graph = coo_matrix((np.ones(len(boundary)), (boundary[:, 0], boundary[:, 1])), shape=(n, n))
+        _, label = connected_components(graph, directed=False)
+        used = np.unique(boundary.ravel())
+        loop_of_vertex = np.unique(label[used], return_inverse=True)[1].ravel()
+        loops = int(loop_of_vertex.max()) + 1
+        centre = np.zeros((loops, 3))
+        np.add.at(centre, loop_of_vertex, points[used])
+        centre /= np.bincount(loop_of_vertex, minlength=loops)[:, None]
+        loop = np.zeros(n, dtype=np.int64)
+        loop[used] = loop_of_vertex
+        # the cap triangle (b, a, centre) of each boundary edge a -> b
+        b, a, c = points[boundary[:, 1]], points[boundary[:, 0]], centre[loop[boundary[:, 0]]]
+        volume += np.einsum("ij,ij->i", b, np.cross(a, c)).sum()
+    return float(volume / 6.0)
+
+
+def survey(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    area: np.ndarray | None = None,
+    boundary: np.ndarray | None = None,
+    consistent: bool | None = None,
+    cross: np.ndarray | None = None,
+) -> tuple[Orientation, np.ndarray]:
+    """:func:`find_orientation`, and which faces are wound inward ((m,) bool).
+
+    `consistent`: whether the caller knows that no shared edge is run the same
+    way by both its faces (None: found here); `cross`: the faces' cross
+    products, if the caller has them.
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    m = len(faces)
+    area = _face_areas(vertices, faces) if area is None else area
+    edges = boundary_edges(faces, len(vertices)) if boundary is None else boundary
+    agreeing = faces if consistent else orient_consistently(faces, len(vertices))
+    if agreeing is not faces:  # some faces were flipped to agree with their neighbours
+        volume = closed_volume(vertices, agreeing, boundary_edges(agreeing, len(vertices)))
+    else:
+        volume = closed_volume(vertices, faces, edges, cross)
+    total = float(area.sum())
+    if not abs(volume) > FLAT_TOLERANCE * total**1.5:
+        found = Orientation("undetermined", "flat", winding="undetermined", faces=m)
+        return found, np.zeros(m, dtype=bool)
+    outward = agreeing if volume > 0 else agreeing[:, ::-1]
+    if agreeing is faces:
+        inward = np.full(m, volume < 0)
+    else:
+        inward = np.any(outward != faces, axis=1)
+    count = int(np.count_nonzero(inward))
+    winding = "outward" if count == 0 else "inward" if count == m else "mixed"
+    details = {"winding": winding, "inward_faces": count, "faces": m}
+    if len(edges):
+        ends = vertices[edges]
+        length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+        base = np.sum(length * ends[:, :, 2].mean(axis=1)) / length.sum()
+        height = np.empty(m)
+        _kernels.face_mean_z(vertices, faces, height)
+        centre = np.sum(area * height) / total
+        return Orientation("+z" if base < centre else "-z", "open base", **details), inward
+    tri = vertices[outward]
+    nz = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])[:, 2]
+    up, down = area[nz > 0].sum(), area[nz < 0].sum()
+    if abs(up - down) < CLOSED_MARGIN * (up + down):
+        return Orientation("undetermined", "area", **details), inward
+    return Orientation("+z" if up > down else "-z", "area", **details), inward
+
+
 def find_orientation(
     vertices: np.ndarray,
     faces: np.ndarray,
     area: np.ndarray | None = None,
     boundary: np.ndarray | None = None,
 ) -> Orientation:
-    """Which way along z the crown ``(vertices, faces)`` points (see the module's rule).
+    """Which way along z the crown ``(vertices, faces)`` points, and how its faces are wound.
 
-    `area`: the faces' areas, and `boundary`: the mesh's boundary edges
-    (:func:`dentopo.mesh.boundary_edges`), if the caller has them already.
+    See the module's rules.  `area`: the faces' areas, and `boundary`: the
+    mesh's boundary edges (:func:`dentopo.mesh.boundary_edges`), if the
+    caller has them already.
     """
-    vertices, faces = np.asarray(vertices, dtype=np.float64), np.asarray(faces)
-    if area is None:
-        tri = vertices[faces]
-        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    edges = boundary_edges(faces, len(vertices)) if boundary is None else boundary
-    if len(edges):
-        ends = vertices[edges]
-        length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
-        base = np.sum(length * ends[:, :, 2].mean(axis=1)) / length.sum()
-        height = np.empty(len(faces))
-        _kernels.face_mean_z(vertices, np.asarray(faces, dtype=np.int64), height)
-        centre = np.sum(area * height) / area.sum()
-        return Orientation("+z" if base < centre else "-z", "open base")
-    out = vertices[outward_faces(vertices, faces)]
-    nz = np.cross(out[:, 1] - out[:, 0], out[:, 2] - out[:, 0])[:, 2]
-    up, down = area[nz > 0].sum(), area[nz < 0].sum()
-    if abs(up - down) < CLOSED_MARGIN * (up + down):
-        return Orientation("undetermined", "area")
-    return Orientation("+z" if up > down else "-z", "area")
+    return survey(vertices, faces, area, boundary)[0]
 
 
 def orient_vertices(
     vertices: np.ndarray, faces: np.ndarray, orient: str, area: np.ndarray | None = None
 ) -> tuple[np.ndarray, Orientation]:
-    """The vertices to measure (turned to +z if ``orient="auto"`` and needed), and what was done.
+    """The vertices to measure (turned to +z if ``orient="auto"`` and needed), and what was found.
 
-    `area`: the faces' areas, if the caller has them already.  Never modifies `vertices`.
+    Turns only: the faces are not rewound here (see
+    :func:`dentopo.topography.prepare_surface`, which does both).  `area`: the
+    faces' areas, if the caller has them already.  Never modifies `vertices`.
     """
     orient = check_orient(orient)
     found = find_orientation(vertices, faces, area)
     if orient == "auto" and found.points == "-z":
-        return vertices @ TURN.T, Orientation(found.points, found.rule, turned=True)
+        return vertices @ TURN.T, replace(found, turned=True)
     return vertices, found

@@ -1,30 +1,30 @@
-"""Relief index (RFI) as molaR 6.0 computes it, with its alpha-shape footprint.
+"""Relief index (RFI) as molaR 6.0 computes it, with its alpha-convex-hull footprint.
 
 RFI compares a crown's 3D surface area with the area of its footprint, the
 outline of the crown seen from above (+z): ``RFI = ln(sqrt(area_3d) /
-sqrt(area_2d))`` (Boyer 2008).  molaR draws the footprint as the boundary of
-an alpha shape (Edelsbrunner) of the vertices' x-y positions, in the R package
-``alphahull``'s convention, and sums triangles fanned from the vertices' mean
-over the boundary segments.  Every convention below is molaR's, the odd ones
-included, because matching its numbers requires them.
+sqrt(area_2d))`` (Boyer 2008).  molaR draws the footprint as the R package
+``alphahull``'s alpha-convex hull (``ahull``) of the vertices' x-y positions,
+a list of circular arcs (:mod:`._alphahull`), tests that list for two faults
+(S, structural; F, a fan from the vertices' mean that is not star-shaped) and
+sums triangles fanned from the mean over the arcs.  Every convention below is
+molaR's, the odd ones included, because matching its numbers requires them.
 
-The alpha shape is computed once per mesh as an interval of radii per
-Delaunay edge; any alpha is then a cheap filter, and molaR's search for an
-alpha (``findAlpha``) is replayed on these intervals instead of recomputing the
-shape at every step.
+molaR's search for an alpha (``findAlpha``) is a walk of at most 99 steps
+whose floating-point arithmetic shows in the alpha it reports; it is walked
+here step by step (:func:`walk`), one hull per step.
 """
 
 from __future__ import annotations
 
+import math
+import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import cached_property
 
 import numpy as np
 import trimesh
-from scipy.spatial import QhullError
 
-from . import _kernels
-from ._delaunay import delaunay
+from ._alphahull import FAN_INSIDE, FAN_UNDEFINED, AlphaHull, Arcs, chain
 from ._orientation import Orientation, check_orient
 from ._parameters import check_alpha, check_find_alpha
 from ._surface import molar_face_areas, molar_scale, prepare_surface
@@ -32,22 +32,48 @@ from ._surface import molar_face_areas, molar_scale, prepare_surface
 #: Scalar fields, in the order of output tables.
 RFI_FIELDS = ("rfi", "area_3d", "area_2d", "alpha")
 
-#: molaR's search steps (see AlphaShape.find_alpha): UP_STEP multiples added to
-#: the start, DOWN_STEP and FINE_STEP added repeatedly.
+#: molaR's search (:func:`walk`): the steps up after S and F, back down after an
+#: S that overshoots the last success, down after OK; and its budget of hulls.
 UP_STEP = 0.01
-DOWN_STEP = 0.005
+BACK_STEP = 0.009
 FINE_STEP = 0.001
+DOWN_STEP = 0.005
+MAX_EVALUATIONS = 99
 
-#: Candidate alphas generated at a time while walking molaR's search.
-_CHUNK = 4096
+#: The verdicts on a hull (see :func:`rfi`).
+STRUCTURAL, FAN, OK = "S", "F", "OK"
 
 
 class AlphaAdjustmentError(ValueError):
-    """The alpha-shape boundary is not one simple closed outline at this alpha.
+    """The alpha-convex hull's arcs do not make a usable outline at this alpha (molaR's S).
 
-    molaR's "alpha adjustment required": its footprint needs the boundary
-    segments to chain into one closed loop.  Try ``find_alpha=True`` (molaR's
-    ``findAlpha``) or another ``alpha``.
+    molaR's "alpha adjustment required": some point starts two arcs (the hull
+    pinches there) or some point of the hull's edge is on no arc (an isolated
+    point, a point joined only by dangling edges, or a pinch cut off on both
+    sides).  Try ``find_alpha=True`` (molaR's ``findAlpha``) or another
+    ``alpha``.
+    """
+
+
+class FootprintWarning(UserWarning):
+    """RFI's 2D area may be over-estimated, or molaR's search for an alpha failed.
+
+    The 2D area is a fan of triangles from the vertices' mean over the hull's
+    arcs; when some arc end lies inside another arc's triangle (molaR's F) the
+    footprint is not star-shaped from the mean and the fan covers more than
+    the footprint.  molaR warns and keeps the number; so does :func:`rfi`, and
+    the result's ``warning`` says so.
+    """
+
+
+class FootprintError(ValueError):
+    """molaR stops while measuring the footprint at this alpha, so RFI has no value (NA).
+
+    Either the fan test meets a missing value (the vertices' mean lies on the
+    line through an arc's two ends, so the barycentric formula divides 0 by
+    0), or the hull's boundary has points of its own (arcs trimmed at a
+    pinch), whose indices are past the list of footprint points that the 2D
+    area reads ("subscript out of bounds").
     """
 
 
@@ -64,25 +90,31 @@ class RFIResult:
         computes it (single precision per face, see :func:`rfi`).
     area_2d : float
         Footprint area, mesh units squared: the sum of the triangles fanned
-        from the vertices' mean over the boundary segments.
+        from the vertices' mean over the hull's arcs (each by the Gram form
+        of its two end points).
     alpha : float
-        The alpha used: the radius of the empty discs of the alpha shape, in
-        molaR's rescaled units (centroid size 100).  With ``find_alpha`` it is
-        the alpha molaR's search ends on, bit for bit.
+        The alpha used: the radius of the empty discs of the alpha-convex
+        hull, in molaR's rescaled units (centroid size 100).  With
+        ``find_alpha`` it is the alpha molaR's search ends on, bit for bit (or
+        the start alpha when the search fails, as in molaR).
     find_alpha : bool
         Whether ``alpha`` was searched for.
     vertices, faces : int
         Vertex and face counts of the cleaned mesh.
     footprint : (k, 2, 2) float
-        The boundary segments as x-y coordinates of their two ends, in the
-        mesh's own units and position, chained head to tail around the loop
-        (for drawing the outline over a top view).
+        The hull's arcs as x-y coordinates of their two end points, in the
+        mesh's own units and position, chained head to tail around each loop
+        (clockwise around the footprint; for drawing the outline over a top
+        view, the arcs drawn as chords).
     mesh : trimesh.Trimesh
         The cleaned mesh (a private copy; turned to +z if ``orient="auto"``
         turned it, and the footprint with it).
     orientation : Orientation
         Which way the crown points (``+z``, ``-z`` or ``undetermined``) and
         whether it was turned before measuring (``orient="auto"``).
+    warning : str or None
+        What was warned (:class:`FootprintWarning`): the 2D area may be
+        over-estimated, or the search for an alpha failed; None if nothing.
     """
 
     rfi: float
@@ -95,6 +127,7 @@ class RFIResult:
     footprint: np.ndarray = field(repr=False, compare=False)
     mesh: trimesh.Trimesh = field(repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
+    warning: str | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
         """The table fields (:data:`RFI_FIELDS`) as a plain dict."""
@@ -125,181 +158,138 @@ def first_occurrence(points: np.ndarray) -> np.ndarray:
     return ~(seen_before(points[:, 0]) & seen_before(points[:, 1]))
 
 
-class AlphaShape:
-    """The alpha shapes of a 2D point set, for every alpha at once.
+def walk(
+    start: float,
+    verdict: Callable[[float], str],
+    max_evaluations: int = MAX_EVALUATIONS,
+) -> tuple[float | None, list[tuple[float, str]]]:
+    """molaR's ``findAlpha`` walk from `start`: the alpha it accepts, or None, and its steps.
 
-    An edge ``(i, j)`` of the Delaunay triangulation is on the boundary of the
-    alpha shape (``alphahull``'s ``ashape``) when some disc of radius alpha
-    with both points on its circle has no point inside: the disc's centre then
-    lies on the edge's dual Voronoi edge, the segment between the circumcentres
-    of the two triangles on the edge (a ray outwards for a convex-hull edge).
-    So the edge is on the boundary exactly for ``alpha_min <= alpha <=
-    alpha_max``: ``alpha_min`` is half the edge length when the edge's midpoint
-    lies on the Voronoi edge (both opposite angles at most 90 degrees; the
-    triangle's opposite angle for a hull edge) and otherwise the smaller
-    circumradius, and ``alpha_max`` is the larger circumradius (infinite for a
-    hull edge).
+    `verdict` gives the hull's verdict at an alpha: :data:`STRUCTURAL` ("S"),
+    :data:`FAN` ("F") or :data:`OK`, or raises :class:`FootprintError` (R
+    stops inside the search).  Every step is one IEEE double operation, as
+    in molaR, so the alpha accepted has the bits molaR's has:
 
-    Parameters
-    ----------
-    points : (n, 2) float
-        Distinct points, not all on one line.
-    positions : (n, 2) float, optional
-        Where to say the points are in messages (default `points`).
+    - ``a = start``; last failure ``L = 0``; last success ``H = a + 1``;
+    - S: ``L = a; a = a + 0.01``, then ``a = a - 0.009`` if ``a > H``;
+    - F: ``L = a; a = a + 0.001``;
+    - OK: accept ``a`` if ``L == a - 0.001``; else ``H = a; a = a - 0.005``,
+      then ``a = L + 0.001`` if ``a <= L``, and accept ``a`` if now ``a == H``.
+
+    At most `max_evaluations` hulls are evaluated; needing one more, or an
+    error from `verdict`, is a failure (None).  The steps are ``(alpha,
+    verdict)`` pairs, ``"error"`` for an error.
     """
-
-    def __init__(self, points: np.ndarray, positions: np.ndarray | None = None):
-        self.n = len(points)
-        self.positions = points if positions is None else positions
+    a, low = start, 0.0
+    high = a + 1.0
+    steps: list[tuple[float, str]] = []
+    while len(steps) < max_evaluations:
         try:
-            simplices, neighbors = delaunay(points)
-        except QhullError as exc:
-            raise ValueError(
-                "the footprint has no area: the vertices' x-y positions lie on one line"
-            ) from exc
-        ux, uy = np.empty(len(simplices)), np.empty(len(simplices))
-        _kernels.circumcentres(points, simplices, ux, uy)
-        radius = np.hypot(ux, uy)
+            seen = verdict(a)
+        except FootprintError:
+            steps.append((a, "error"))
+            return None, steps
+        steps.append((a, seen))
+        if seen == STRUCTURAL:
+            low = a
+            a = a + UP_STEP
+            if a > high:
+                a = a - BACK_STEP
+        elif seen == FAN:
+            low = a
+            a = a + FINE_STEP
+        else:
+            if low == a - FINE_STEP:
+                return a, steps
+            high = a
+            a = a - DOWN_STEP
+            if a <= low:
+                a = low + FINE_STEP
+            if a == high:
+                return a, steps
+    return None, steps
 
-        most = 3 * len(simplices)
-        ends = np.empty((most, 2), dtype=np.int64)
-        alpha_min, alpha_max = np.empty(most), np.empty(most)
-        hull = np.empty(most, dtype=bool)
-        count = _kernels.alpha_intervals(
-            points, simplices, neighbors, radius, ends, alpha_min, alpha_max, hull
-        )
-        self.edges = ends[:count]
-        self.alpha_min = alpha_min[:count]
-        self.alpha_max = alpha_max[:count]
-        self._hull = hull[:count]
-        self._valid: dict[int, bool] = {}
 
-    @cached_property
-    def critical(self) -> np.ndarray:
-        """The sorted distinct finite interval ends: where the boundary changes."""
-        return np.unique(np.concatenate([self.alpha_min, self.alpha_max[~self._hull]]))
+class _Footprint:
+    """A mesh's footprint points (both copies) and their alpha-convex hulls."""
 
-    def boundary(self, alpha: float) -> np.ndarray:
-        """(k, 2) int: the boundary segments at `alpha` (point indices)."""
-        return self.edges[(self.alpha_min <= alpha) & (alpha <= self.alpha_max)]
+    def __init__(self, vertices: np.ndarray):
+        self.mean = vertices.mean(axis=0)
+        points = np.vstack([vertices - self.mean, np.zeros((1, 3))])[:, :2]
+        self.flat = points[first_occurrence(points)]
+        self.scale = molar_scale(vertices)
+        scaled = points * self.scale
+        scaled = scaled[first_occurrence(scaled)]
+        if len(scaled) < 3:
+            raise ValueError("the footprint has fewer than three distinct points")
+        self.hull = AlphaHull(scaled)
+        self._arcs: dict[float, Arcs] = {}
 
-    def state(self, alphas) -> np.ndarray:
-        """An integer per alpha, equal for alphas whose boundaries are equal.
+    def arcs(self, alpha: float) -> Arcs:
+        if alpha not in self._arcs:
+            self._arcs[alpha] = self.hull.arcs(alpha)
+        return self._arcs[alpha]
 
-        The boundary changes only at the critical radii (the finite interval
-        ends): alphas strictly between two consecutive ones, or equal to the
-        same one, have the same boundary.
-        """
-        alphas = np.asarray(alphas, dtype=np.float64)
-        above = np.searchsorted(self.critical, alphas, side="right")
-        on = (above > 0) & (self.critical[np.maximum(above - 1, 0)] == alphas)
-        return 2 * above + on
-
-    def problem(self, alpha: float) -> str | None:
-        """Why the boundary at `alpha` is not one closed loop, or None if it is."""
-        segments = self.boundary(alpha)
-        if len(segments) == 0:
-            return "there is no boundary segment (alpha is below half the spacing of the points)"
-        degree = np.bincount(segments.ravel(), minlength=self.n)
-        worst = int(degree.argmax())
-        if degree[worst] > 2:
-            return (
-                f"the boundary pinches: the point at x, y = {self._where(worst)} "
-                f"lies on {degree[worst]} boundary segments"
-            )
-        loose = np.flatnonzero(degree == 1)
-        if len(loose):
-            return (
-                f"the boundary is not closed: the point at x, y = {self._where(loose[0])} "
-                "ends a dangling segment"
-            )
-        loops = _kernels.loops(segments, self.n)
-        if loops > 1:
-            return f"the boundary segments form {loops} separate loops, not one outline"
-        return None
-
-    def _where(self, point: int) -> str:
-        x, y = self.positions[point]
+    def where(self, xy) -> str:
+        x, y = np.asarray(xy) / self.scale + self.mean[:2]
         return f"{x:.6g}, {y:.6g}"
 
-    def valid(self, alpha: float) -> bool:
-        """Whether the boundary at `alpha` is one simple closed loop (cached per state)."""
-        key = int(self.state(alpha))
-        if key not in self._valid:
-            self._valid[key] = self.problem(alpha) is None
-        return self._valid[key]
-
-    def first(self, alphas: np.ndarray, want: bool) -> float | None:
-        """The first of `alphas` whose validity is `want` (one test per distinct state)."""
-        states = self.state(alphas)
-        runs = np.flatnonzero(np.r_[True, states[1:] != states[:-1]])
-        for start in runs:
-            if self.valid(float(alphas[start])) == want:
-                return float(alphas[start])
+    def structural(self, arcs: Arcs) -> str | None:
+        """Why molaR's S holds for `arcs`, or None."""
+        if arcs.pinch >= 0:
+            return (
+                f"the hull pinches: the point at x, y = {self.where(arcs.xy[arcs.pinch])} "
+                "starts two arcs"
+            )
+        if arcs.isolated >= 0:
+            return (
+                f"the point at x, y = {self.where(arcs.xy[arcs.isolated])} is on the hull's "
+                "edge but ends no arc (an isolated point, a point joined only by dangling "
+                "edges, or a pinch cut off on both sides)"
+            )
         return None
 
-    def walk(self, start: float, step: float, want: bool) -> float:
-        """``a = start; while valid(a) != want: a = a + step``, in molaR's arithmetic.
+    def fan(self, arcs: Arcs) -> bool:
+        """molaR's F for `arcs` (not S); raises FootprintError where R stops."""
+        answer = self.hull.fan(arcs)
+        if answer == FAN_UNDEFINED:
+            raise FootprintError(
+                f"at alpha = {arcs.alpha!r} the vertices' mean lies on the line through the "
+                "two ends of a hull arc: molaR's fan test divides 0 by 0 and R stops on the "
+                "missing value (RFI is NA)"
+            )
+        return answer == FAN_INSIDE
 
-        The steps are repeated additions (as a loop adds them), so the alpha
-        reached is the same floating-point number molaR reaches.
-        """
-        if self.valid(start) == want:
-            return start
-        while True:
-            alphas = np.add.accumulate(np.r_[start, np.full(_CHUNK, step)])[1:]
-            found = self.first(alphas, want)
-            if found is not None:
-                return found
-            start = float(alphas[-1])
+    def verdict(self, alpha: float) -> str:
+        arcs = self.arcs(alpha)
+        if arcs.structural:
+            return STRUCTURAL
+        return FAN if self.fan(arcs) else OK
 
-    def climb(self, alpha: float) -> float:
-        """The first valid ``alpha + i * 0.01`` for i = 1, 2, ..."""
-        i = 1
-        while True:
-            steps = np.arange(i, i + _CHUNK, dtype=np.float64)
-            found = self.first(alpha + steps * UP_STEP, True)
-            if found is not None:
-                return found
-            i += _CHUNK
-            # Skip the candidates below the next critical radius: they share
-            # the last candidate's (invalid) boundary.  Beyond the last
-            # critical radius the boundary is the convex hull, which is valid.
-            last = alpha + (i - 1) * UP_STEP
-            if self.state(last) % 2 == 0:
-                later = self.critical[self.critical > last]
-                if len(later):
-                    i = max(i, int(np.floor((later[0] - alpha) / UP_STEP)) - 1)
-
-    def find_alpha(self, alpha: float) -> float:
-        """molaR's search for an alpha whose boundary is one closed loop.
-
-        - Valid at `alpha`: step down by 0.005 (``a = a - 0.005`` repeated)
-          to the first invalid alpha, then up by 0.001 (``a = a + 0.001``
-          repeated) to the first valid one.
-        - Invalid at `alpha`: take the first valid ``b = alpha + i * 0.01``
-          (i = 1, 2, ...), step back to ``b - 0.01``, then up by 0.001 as
-          above to the first valid alpha.
-
-        The arithmetic is molaR's to the bit (it shows in the alphas found,
-        e.g. 0.020000000000000004); one alpha per distinct boundary is tested.
-        """
-        if self.valid(alpha):
-            start = self.walk(alpha, -DOWN_STEP, False)
-        else:
-            start = self.climb(alpha) - UP_STEP
-        return self.walk(start, FINE_STEP, True)
+    def area(self, arcs: Arcs) -> tuple[float, np.ndarray]:
+        """The 2D area over `arcs` on the flat copy, and the arcs' ends there, loop by loop."""
+        order = _chained(arcs.start, arcs.end)
+        ends = np.column_stack([arcs.start[order], arcs.end[order]])
+        if ends.size and ends.max() >= len(self.flat):
+            raise FootprintError(
+                f"at alpha = {arcs.alpha!r} the hull's boundary pinches and is cut at "
+                f"{arcs.new} point(s) of its own, which are not footprint points: molaR's 2D "
+                "area stops on 'subscript out of bounds' (RFI is NA); try another alpha"
+            )
+        b1, b2 = self.flat[ends[:, 0]], self.flat[ends[:, 1]]
+        b11 = b1[:, 0] * b1[:, 0] + b1[:, 1] * b1[:, 1]
+        b22 = b2[:, 0] * b2[:, 0] + b2[:, 1] * b2[:, 1]
+        b12 = b1[:, 0] * b2[:, 0] + b1[:, 1] * b2[:, 1]
+        triangles = 0.5 * np.sqrt(np.abs(b11 * b22 - b12 * b12))
+        return math.fsum(triangles.tolist()), self.flat[ends]
 
 
-def _chain(segments: np.ndarray, n: int) -> np.ndarray:
-    """The segments of one closed loop, head to tail from its lowest point index.
-
-    The loop runs first towards the lower of that point's two neighbours, so
-    the order does not depend on how the triangulation listed its edges.
-    """
-    order = np.empty(len(segments), dtype=np.int64)
-    _kernels.loop_order(segments, n, order)
-    return np.column_stack([order, np.roll(order, -1)])
+def _chained(start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """The arcs' order head to tail around each loop (:func:`._alphahull.chain`)."""
+    order = np.empty(len(start), dtype=np.int64)
+    if len(start):
+        chain(start, end, int(max(start.max(), end.max())) + 1, order)
+    return order
 
 
 def rfi(
@@ -318,33 +308,42 @@ def rfi(
        size with its per-vertex centring quirk, computed on the mesh as given;
        "scaled").  Each copy drops the points molaR's duplicate check drops
        (:func:`first_occurrence`: a repeated x value **and** a repeated y
-       value, from any earlier points).  The scaled copy is the flat copy
-       times a constant, so equal flat values stay equal and it drops at least
-       the flat copy's points; it can drop more only where rounding makes two
-       close values equal, and then its point indices, which the footprint
-       uses on the flat copy, are shifted, as in molaR.
-    3. The alpha shape (``alphahull``'s ``ashape``; `alpha` is the radius of
-       the empty discs) of the scaled copy's x-y points.  Its boundary
-       segments must form one simple closed loop: a point on more than two
-       segments (the boundary pinches), a dangling segment, or several
-       separate loops (islands or holes) raise :class:`AlphaAdjustmentError`,
-       molaR's "alpha adjustment required".  molaR's reference values show
-       the pinch (at the default alpha) and, through its search, that it also
-       rejects several loops.
-    4. ``area_2d``: for each boundary segment, the unsigned area of the
-       triangle (origin, end 1, end 2) on the flat copy's x-y coordinates,
-       summed.  (A fan from the vertices' mean: over-estimated when the
-       footprint is not star-shaped from there; molaR warns and keeps it.)
-    5. ``RFI = ln(sqrt(area_3d) / sqrt(area_2d))``.
+       value, from any earlier points; on a regular grid this drops most of
+       the points).  The scaled copy is the flat copy times a constant, so
+       equal flat values stay equal and it drops at least the flat copy's
+       points; it can drop more only where rounding makes two close values
+       equal, and then its point indices, which the 2D area uses on the flat
+       copy, are shifted, as in molaR.
+    3. The hull: ``alphahull``'s alpha-convex hull (``ahull``; `alpha` is the
+       radius of the empty discs) of the scaled copy's x-y points, a list of
+       arcs clockwise around the region, trimmed where two empty discs
+       overlap over a pinch, with a degenerate arc (a point to itself) for
+       each point of the hull's edge on no arc (see :mod:`._alphahull`).
+    4. molaR's tests on the list: **S** if some arc has equal ends or some
+       point starts two arcs (:class:`AlphaAdjustmentError`, molaR's "alpha
+       adjustment required"); **F** if some arc end lies strictly inside the
+       triangle fanned from the last scaled point (the mean) over some arc,
+       by molaR's barycentric formula in double precision.  F means that the
+       footprint is not star-shaped from the mean, so the 2D area may be
+       over-estimated: molaR warns and keeps the number, and so does this
+       function (:class:`FootprintWarning`, and the result's ``warning``).
+    5. ``area_2d``: over every arc (all loops), the unsigned area of the
+       triangle (mean, end 1, end 2) on the flat copy's x-y coordinates, by
+       the Gram form ``0.5 sqrt(|(b1.b1)(b2.b2) - (b1.b2)^2|)``, summed.  A
+       boundary trimmed at points of its own has no flat coordinates there:
+       molaR stops ("subscript out of bounds"), and so does this function
+       (:class:`FootprintError`).
+    6. ``RFI = ln(sqrt(area_3d) / sqrt(area_2d))``.
 
-    With ``find_alpha=True`` the alpha is molaR's search from `alpha`
-    (:meth:`AlphaShape.find_alpha`): from a valid `alpha`, down by 0.005 to
-    the first invalid alpha; from an invalid one, up to the first valid
-    ``alpha + i * 0.01`` and back by 0.01; then up by 0.001 to the first valid
-    alpha.  The arithmetic is molaR's, so the alpha found is the same number.
-    Validity need not be monotone in alpha, so this is not always the smallest
-    valid alpha.  The search is replayed on the precomputed alpha intervals,
-    testing one alpha per distinct boundary.
+    With ``find_alpha=True`` the alpha is molaR's walk from `alpha`
+    (:func:`walk`): up by 0.01 after S and by 0.001 after F, down by 0.005
+    after OK, never below the last failure, until an OK alpha 0.001 above the
+    last failure or the last success is met again.  Every step is an IEEE
+    double operation as in molaR, so the alpha found has molaR's bits (e.g.
+    0.040000000000000008).  It is not a search for the smallest valid alpha.
+    If the walk needs more than 99 hulls or R would stop inside it, molaR
+    measures at the start alpha instead: so does this function, with a
+    :class:`FootprintWarning`.
 
     Parameters
     ----------
@@ -353,8 +352,8 @@ def rfi(
         or one prepared once for several metrics
         (:func:`dentopo.topography.prepare_surface`).  Never modified.
     alpha : float, default 0.075
-        Radius of the alpha shape's discs, in molaR's rescaled units; with
-        `find_alpha`, where the search starts.
+        Radius of the hull's empty discs, in molaR's rescaled units; with
+        `find_alpha`, where the walk starts.
     find_alpha : bool, default False
         Search for the alpha as molaR's ``findAlpha = TRUE`` does.
     orient : {"as-is", "auto"}, default "as-is"
@@ -371,13 +370,19 @@ def rfi(
     Raises
     ------
     AlphaAdjustmentError
-        When the boundary at `alpha` is not one closed loop (not with
-        `find_alpha`).
+        S at the alpha measured (`alpha`, or the start alpha after a failed
+        search).
+    FootprintError
+        Where molaR stops with no value (RFI is NA): a trimmed boundary, or a
+        missing value in the fan test.
     TypeError, ValueError
         For bad parameters or an unusable mesh.
 
     Warns
     -----
+    FootprintWarning
+        F at the alpha measured (the 2D area may be over-estimated), or the
+        search for an alpha failed.
     UserWarning
         With ``orient="as-is"``, when the crown points to -z.
 
@@ -404,39 +409,55 @@ def rfi(
     surface.warn_orientation()
     vertices = surface.vertices
     area_3d = float(surface.single_precision_areas().sum())
+    footprint = _Footprint(vertices)
 
-    mean = vertices.mean(axis=0)
-    points = np.vstack([vertices - mean, np.zeros((1, 3))])[:, :2]
-    flat = points[first_occurrence(points)]
-    scale = molar_scale(vertices)
-    scaled = points * scale
-    scaled = scaled[first_occurrence(scaled)]
-    if len(scaled) < 3:
-        raise ValueError("the footprint has fewer than three distinct points")
-
-    shape = AlphaShape(scaled, positions=scaled / scale + mean[:2])
+    warned: list[str] = []
+    found = None
     if find_alpha:
-        alpha = shape.find_alpha(alpha)
-    else:
-        problem = shape.problem(alpha)
+        found, steps = walk(alpha, footprint.verdict)
+        if found is None:
+            why = (
+                "R stops inside the hull test"
+                if steps[-1][1] == "error"
+                else f"no alpha within {MAX_EVALUATIONS} hulls"
+            )
+            warned.append(
+                f"find_alpha failed ({why}, from alpha = {alpha!r}); measured at that "
+                "alpha instead, as molaR does"
+            )
+    arcs = footprint.arcs(alpha if found is None else found)
+    if found is None:  # a fixed alpha, or the search's fallback: S stops, F warns
+        problem = footprint.structural(arcs)
         if problem is not None:
             raise AlphaAdjustmentError(
                 f"alpha adjustment required at alpha = {alpha!r}: {problem}; "
-                "use find_alpha=True to search for an alpha, or choose another alpha"
+                + (
+                    "molaR's search from there failed too"
+                    if find_alpha
+                    else "use find_alpha=True to search for an alpha, or choose another alpha"
+                )
             )
-    segments = _chain(shape.boundary(alpha), shape.n)
-    ends = flat[segments]
-    cross = ends[:, 0, 0] * ends[:, 1, 1] - ends[:, 0, 1] * ends[:, 1, 0]
-    area_2d = float(0.5 * np.abs(cross).sum())
+        if footprint.fan(arcs):
+            warned.append(
+                f"2D area may be over-estimated at alpha = {alpha!r}: the footprint is not "
+                "star-shaped from the vertices' mean (an end of a hull arc lies inside the "
+                "triangle fanned from the mean over another arc), so the fan of triangles "
+                "covers more than the footprint"
+            )
+    area_2d, ends = footprint.area(arcs)
+    warning = "; ".join(warned) if warned else None
+    if warning is not None:
+        warnings.warn(warning, FootprintWarning, stacklevel=2)
     return RFIResult(
         rfi=float(np.log(np.sqrt(area_3d) / np.sqrt(area_2d))),
         area_3d=area_3d,
         area_2d=area_2d,
-        alpha=alpha,
+        alpha=alpha if found is None else found,
         find_alpha=find_alpha,
         vertices=len(vertices),
         faces=len(surface.faces),
-        footprint=ends + mean[:2],
+        footprint=ends + footprint.mean[:2],
         mesh=surface.trimesh(),
         orientation=surface.orientation,
+        warning=warning,
     )

@@ -101,9 +101,11 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
         A triangle mesh, or one prepared once for several metrics
         (:func:`dentopo.topography.prepare_surface`).  Never modified.
     orient : {"as-is", "auto"}, default "as-is"
-        The metric assumes the crown points to +z.  ``"as-is"`` measures the
-        mesh as it lies (molaR's behaviour) and warns if the crown points to
-        -z; ``"auto"`` turns such a crown first (see
+        The metric assumes the crown points to +z and its faces are wound
+        outward.  ``"as-is"`` measures the mesh as it lies (molaR's
+        behaviour) and warns if the crown points to -z, its faces are wound
+        inward or it is flat; ``"auto"`` rewinds faces wound inward and turns
+        a crown pointing to -z first (never a flat one: see
         :func:`dentopo.topography.find_orientation`).  Either way the result's
         ``orientation`` says what was found and done.
 
@@ -119,7 +121,8 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        With ``orient="as-is"``, when the crown points to -z; when its faces
+        are wound inward (rewound or not) or it is flat.
 
     References
     ----------

@@ -5,6 +5,11 @@ face uses); every metric then works on face normals and areas from the faces'
 stored vertex order, and some on coordinates rescaled by molaR's "centroid
 size".  These shared pieces live here so that the metrics agree on them.
 
+One step is ours: a face listed again (the same three vertices, in any order
+or winding) is dropped by default, so that every metric of a row, and the
+``faces`` count ariaDNE's cleaning reports beside them, measure each triangle
+once (``duplicates="keep"`` measures the faces as listed, as molaR does).
+
 A :class:`Surface` is prepared once and can be given to every metric in place
 of a mesh: what more than one metric needs of it (its boundary edges, the
 crown's orientation, the crown turned to +z, molaR's single-precision face
@@ -14,17 +19,20 @@ areas) is computed the first time it is asked for and kept with it.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import trimesh
 
 from ..mesh import as_arrays
 from . import _kernels
-from ._orientation import TURN, Orientation, check_orient, find_orientation
+from ._orientation import TURN, Orientation, check_orient, survey
 
 #: molaR rescales a mesh so that its size measure is this.
 SIZE_TARGET = 100.0
+
+#: ``duplicates``: ``"drop"`` (default: each triangle measured once) or ``"keep"`` (molaR's).
+DUPLICATE_MODES = ("drop", "keep")
 
 
 @dataclass(frozen=True)
@@ -40,7 +48,9 @@ class Surface:
     ----------
     vertices : (n, 3) float64
     faces : (m, 3) int64
-        Faces of non-zero area, in their stored order and vertex order.
+        Faces of non-zero area, in their stored order and vertex order (each
+        triangle once unless ``duplicates="keep"``; rewound where they were
+        wound inward, in a surface :meth:`oriented` with ``orient="auto"``).
     cross : (m, 3) float64
         ``(v2 - v1) x (v3 - v1)`` of each face.
     area : (m,) float64
@@ -49,8 +59,14 @@ class Surface:
         Unit face normals (``cross`` normalised).
     dropped_faces : int
         Faces of zero area that were dropped.
+    duplicate_faces : int
+        Faces (of non-zero area) that repeat an earlier face's three vertices,
+        in any order: dropped with ``duplicates="drop"``, kept with ``"keep"``.
+    duplicates : str
+        ``"drop"`` or ``"keep"``: what was done with them.
     orientation : Orientation or None
-        Which way the crown points and whether it was turned (when asked).
+        Which way the crown points and its faces are wound, and whether it was
+        turned and rewound (when asked).
     source : Surface or None
         The cleaned surface as given, when this one is it looked at for its
         orientation (and perhaps turned): see :meth:`oriented`.
@@ -62,8 +78,12 @@ class Surface:
     area: np.ndarray
     normals: np.ndarray
     dropped_faces: int = 0
+    duplicate_faces: int = 0
+    duplicates: str = "drop"
     orientation: Orientation | None = None
     source: Surface | None = field(default=None, repr=False, compare=False)
+    # the surface whose faces (and so edges and areas) this one has, if not its own
+    _same_faces: Surface | None = field(default=None, repr=False, compare=False)
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -71,10 +91,16 @@ class Surface:
         for name in ("vertices", "faces", "cross", "area", "normals"):
             getattr(self, name).flags.writeable = False
 
-    def warn_orientation(self, stacklevel: int = 3) -> None:
-        """Warn (``UserWarning``) if the crown is measured pointing to -z."""
-        message = None if self.orientation is None else self.orientation.warning()
-        if message is not None:
+    def warn_orientation(self, stacklevel: int = 3, *, winding_only: bool = False) -> None:
+        """Warn (``UserWarning``, one per problem) of what the orientation check found.
+
+        A crown measured pointing to -z, a flat surface (no up or down), faces
+        wound inward (rewound or not); ``winding_only``: only the last (the
+        metrics that do not assume +z, as classic DNE).
+        """
+        if self.orientation is None:
+            return
+        for message in self.orientation.messages(winding_only=winding_only):
             warnings.warn(message, UserWarning, stacklevel=stacklevel)
 
     @property
@@ -91,6 +117,11 @@ class Surface:
         """The cleaned mesh as a ``trimesh.Trimesh`` (not processed: faces as stored; a copy)."""
         return trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
 
+    @property
+    def _owner(self) -> Surface:
+        """The surface whose faces this one has: its edges and areas are kept there."""
+        return self if self._same_faces is None else self._same_faces
+
     def _cached(self, key, compute):
         if key not in self._cache:
             self._cache[key] = compute()
@@ -104,15 +135,29 @@ class Surface:
         running from ``faces[f, k]`` to ``faces[f, (k + 1) % 3]``; a boundary
         edge is a group of one.  Computed once, shared with the turned surface.
         """
+        owner = self._owner
 
         def compute():
-            m = len(self.faces)
+            m = len(owner.faces)
             group_start = np.empty(3 * m + 1, dtype=np.int64)
             group_edge = np.empty(3 * m, dtype=np.int64)
-            groups = _kernels.edge_groups(self.faces, len(self.vertices), group_start, group_edge)
+            groups = _kernels.edge_groups(owner.faces, len(owner.vertices), group_start, group_edge)
             return group_start, group_edge, groups
 
-        return self.cleaned._cached("edge_groups", compute)
+        return owner._cached("edge_groups", compute)
+
+    def consistent(self) -> bool:
+        """Whether no directed edge is run twice (neighbouring faces agree on their winding)."""
+        group_start, group_edge, groups = self.edge_groups()
+        if groups == 0:
+            return True
+        m = len(self.faces)
+        tail = self.faces.T.ravel()[group_edge]  # edge e = k * m + f starts at faces[f, k]
+        head = self.faces[group_edge % m, (group_edge // m + 1) % 3]
+        low = (tail < head).astype(np.int64)
+        sizes = np.diff(group_start[: groups + 1])
+        ups = np.add.reduceat(low, group_start[:groups])
+        return not (np.any(ups > 1) or np.any(sizes - ups > 1))
 
     def edge_uses(self) -> np.ndarray:
         """(3m,) int64: for directed edge ``e = k * m + f``, how many faces use its two vertices."""
@@ -131,52 +176,107 @@ class Surface:
     def single_precision_areas(self) -> np.ndarray:
         """Face areas as molaR's reader computes them (:func:`molar_face_areas`); a copy."""
         # the turned surface's areas are the same numbers: turning negates coordinates exactly
-        base = self.cleaned
+        base = self._owner
         return base._cached(
             "single_precision_areas", lambda: molar_face_areas(base.vertices, base.faces)
         ).copy()
 
     def oriented(self, orient: str) -> Surface:
-        """This surface with its orientation found, turned to +z with ``orient="auto"`` if needed.
+        """This surface with its orientation found, and put right with ``orient="auto"``.
 
-        The orientation is found once (:func:`find_orientation`) and the
-        result kept, for either `orient`.
+        ``"auto"`` rewinds the faces found wound inward (reversing their
+        vertex order) and turns a crown pointing to -z to +z; ``"as-is"``
+        changes nothing.  The orientation is found once
+        (:func:`find_orientation`) and the result kept, for either `orient`.
         """
         orient = check_orient(orient)
         base = self.cleaned
-        return base._cached(("oriented", orient), lambda: base._orient(orient))
+        return base._cached(("oriented", orient), lambda: base._orient(orient, turn=True))
 
-    def _orient(self, orient: str) -> Surface:
-        found = self._cached(
-            "orientation",
-            lambda: find_orientation(
-                self.vertices, self.faces, self.area, boundary=self.boundary_edges()
-            ),
-        )
-        if orient == "auto" and found.points == "-z":
-            # a proper rotation: the same numbers, two of them negated (exactly)
-            vertices = self.vertices @ TURN.T
-            cross = face_cross(vertices, self.faces)
-            norm = 2.0 * self.area
+    def wound(self, orient: str) -> Surface:
+        """As :meth:`oriented`, but never turned: for the metrics that do not assume +z.
+
+        Classic DNE's convex/concave split depends on the winding of the faces
+        but not on which way the crown points.
+        """
+        orient = check_orient(orient)
+        base = self.cleaned
+        return base._cached(("wound", orient), lambda: base._orient(orient, turn=False))
+
+    def _survey(self) -> tuple[Orientation, np.ndarray]:
+        """What :func:`find_orientation` finds, and which faces are wound inward."""
+        return self._cached("orientation", self._find_orientation)
+
+    def _find_orientation(self) -> tuple[Orientation, np.ndarray]:
+        if not (self.duplicates == "keep" and self.duplicate_faces):
+            return survey(
+                self.vertices,
+                self.faces,
+                self.area,
+                boundary=self.boundary_edges(),
+                consistent=self.consistent(),
+                cross=self.cross,
+            )
+        # repeated faces kept: the surface is that of each triangle once (a triangle and
+        # its copy would read as neighbours that disagree), each copy judged by its first
+        first, reverse = repeated_faces(self.faces)
+        once = first == np.arange(len(self.faces))
+        found, inward_once = survey(self.vertices, self.faces[once], self.area[once])
+        inward = np.zeros(len(self.faces), dtype=bool)
+        inward[once] = inward_once
+        inward = inward[first] ^ reverse
+        count = int(np.count_nonzero(inward))
+        if found.winding in ("outward", "inward", "mixed"):
+            winding = "outward" if count == 0 else "inward" if inward.all() else "mixed"
+            found = replace(found, winding=winding, inward_faces=count)
+        return replace(found, faces=len(self.faces)), inward
+
+    def _rewound(self, inward: np.ndarray) -> Surface:
+        """The cleaned surface with the `inward` faces' vertex order reversed (its own edges)."""
+
+        def compute():
+            faces = np.where(inward[:, None], self.faces[:, ::-1], self.faces)
+            cross = np.empty((len(faces), 3))
+            norm = np.empty(len(faces))
+            _kernels.face_cross_norm(self.vertices, faces, cross, norm)
             return Surface(
-                vertices=vertices,
-                faces=self.faces,
+                vertices=self.vertices,
+                faces=faces,
                 cross=cross,
-                area=self.area,
+                area=0.5 * norm,
                 normals=cross / norm[:, None],
                 dropped_faces=self.dropped_faces,
-                orientation=Orientation(found.points, found.rule, turned=True),
+                duplicate_faces=self.duplicate_faces,
+                duplicates=self.duplicates,
                 source=self,
             )
+
+        return self._cached("rewound", compute)
+
+    def _orient(self, orient: str, turn: bool) -> Surface:
+        found, inward = self._survey()
+        rewind = orient == "auto" and found.wound_inward
+        geometry = self._rewound(inward) if rewind else self
+        turn = turn and orient == "auto" and found.points == "-z"
+        done = replace(found, turned=turn, rewound=rewind)
+        vertices, cross, normals = geometry.vertices, geometry.cross, geometry.normals
+        if turn:
+            # a proper rotation: the same numbers, two of them negated (exactly)
+            vertices = geometry.vertices @ TURN.T
+            cross = face_cross(vertices, geometry.faces)
+            normals = cross / (2.0 * geometry.area)[:, None]
         return Surface(
-            vertices=self.vertices,
-            faces=self.faces,
-            cross=self.cross,
-            area=self.area,
-            normals=self.normals,
+            vertices=vertices,
+            faces=geometry.faces,
+            cross=cross,
+            area=geometry.area,
+            normals=normals,
             dropped_faces=self.dropped_faces,
-            orientation=found,
+            duplicate_faces=self.duplicate_faces,
+            duplicates=self.duplicates,
+            orientation=done,
             source=self,
+            _same_faces=geometry,
         )
 
 
@@ -203,25 +303,111 @@ def drop_unused(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np
     return vertices[used], remap[faces]
 
 
-def prepare_surface(mesh, orient: str | None = None) -> Surface:
+def check_duplicates(duplicates) -> str:
+    """Validate ``duplicates`` (``"drop"`` or ``"keep"``, any case)."""
+    if not isinstance(duplicates, str) or duplicates.lower() not in DUPLICATE_MODES:
+        raise ValueError(f"duplicates must be one of {DUPLICATE_MODES}; got {duplicates!r}")
+    return duplicates.lower()
+
+
+def repeated_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each face, the first face with its three vertices (in any order), and whether it is
+    wound the other way round from that one.
+
+    A face repeats an earlier one where ``first != arange(m)``; the first face
+    of each vertex set is the one trimesh's ``unique_faces`` and ariaDNE's
+    cleaning keep.  A sort of the faces' sorted vertex triples: O(m log m)
+    whatever the vertices' valences.
+
+    Returns
+    -------
+    first : (m,) int64
+    reversed : (m,) bool
+    """
+    faces = np.asarray(faces)
+    m = len(faces)
+    first = np.arange(m)
+    reverse = np.zeros(m, dtype=bool)
+    if m < 2:
+        return first, reverse
+    key = np.sort(faces, axis=1).astype(np.int64)
+    n = int(key[:, 2].max()) + 1
+    if n < 2**20:  # the triple packed into one integer: one sort instead of three
+        packed = (key[:, 0] * n + key[:, 1]) * n + key[:, 2]
+        order = np.argsort(packed, kind="stable")  # stable: earlier faces first
+        ordered = packed[order]
+        same = ordered[1:] == ordered[:-1]
+    else:
+        order = np.lexsort((key[:, 2], key[:, 1], key[:, 0]))
+        ordered = key[order]
+        same = np.all(ordered[1:] == ordered[:-1], axis=1)
+    if not same.any():
+        return first, reverse
+    starts = np.r_[True, ~same]
+    first[order] = order[np.flatnonzero(starts)][np.cumsum(starts) - 1]  # its group's first
+    # the winding's parity: odd permutations of the sorted triple are wound the other way
+    a, b, c = faces[:, 0], faces[:, 1], faces[:, 2]
+    parity = ((a > b).astype(np.int8) + (a > c) + (b > c)) % 2
+    reverse = parity != parity[first]
+    return first, reverse
+
+
+def _warn_duplicates(count: int, reverse: int, total: int, duplicates: str) -> None:
+    what = f"{count} of the mesh's {total} faces repeat an earlier face (the same three vertices"
+    what += f"; {reverse} of them wound the other way round)" if reverse else ")"
+    if duplicates == "drop":
+        done = (
+            "they were dropped, so that every metric measures each triangle once (the first "
+            "listing, and its winding, is kept); duplicates='keep' (command line: --duplicates "
+            "keep) measures the faces as listed, as molaR does"
+        )
+    else:
+        done = (
+            "they were kept (duplicates='keep', molaR's way): classic DNE, areas and RFI count "
+            "them twice and OPC joins no patch across them; duplicates='drop' (the default) "
+            "measures each triangle once"
+        )
+    warnings.warn(f"{what}: {done}", UserWarning, stacklevel=4)
+
+
+def prepare_surface(mesh, orient: str | None = None, *, duplicates: str = "drop") -> Surface:
     """Read and clean `mesh` as molaR does: zero-area faces dropped, then unused vertices.
+
+    And, by default, faces listed more than once dropped (see `duplicates`).
 
     Parameters
     ----------
     mesh : Surface, trimesh.Trimesh, str, path-like, or (vertices, faces)
         Never modified.  A :class:`Surface` is used as it is (its
-        :attr:`Surface.cleaned` form), not cleaned again.
+        :attr:`Surface.cleaned` form), not cleaned again (`duplicates` is then
+        what it was prepared with).
     orient : {"as-is", "auto"}, optional
         For the metrics that assume the crown points to +z: find which way it
-        points (:func:`find_orientation`, recorded in ``Surface.orientation``)
-        and, with ``"auto"``, turn a crown pointing to -z first
-        (:meth:`Surface.oriented`).  None: the orientation is not looked at.
+        points and how its faces are wound (:func:`find_orientation`, recorded
+        in ``Surface.orientation``) and, with ``"auto"``, rewind faces wound
+        inward and turn a crown pointing to -z first (:meth:`Surface.oriented`).
+        None: the orientation is not looked at.
+    duplicates : {"drop", "keep"}, default "drop"
+        A face whose three vertices (in any order, either winding) are those of
+        an earlier face repeats it: a second copy of the same triangle.
+        ``"drop"`` keeps the first listing only, as ariaDNE's cleaning does
+        (so the ``faces`` count of a batch row is what every metric measured);
+        ``"keep"`` measures the faces as listed, as molaR does (its classic
+        DNE, areas and RFI then count a repeated triangle twice, and its OPC
+        joins no patch across it).  Either way a ``UserWarning`` says how
+        many there were.
 
     Raises
     ------
     TypeError, ValueError
-        For an unusable mesh, or one with no face of non-zero area.
+        For an unusable mesh or option, or a mesh with no face of non-zero area.
+
+    Warns
+    -----
+    UserWarning
+        When faces repeat earlier faces.
     """
+    duplicates = check_duplicates(duplicates)
     if isinstance(mesh, Surface):
         surface = mesh.cleaned
     else:
@@ -236,6 +422,14 @@ def prepare_surface(mesh, orient: str | None = None) -> Surface:
         dropped = len(faces) - kept
         if dropped:
             faces, cross, norm = faces[keep], cross[keep], norm[keep]
+        first, reverse = repeated_faces(faces)
+        repeat = first != np.arange(len(faces))
+        repeats = int(np.count_nonzero(repeat))
+        if repeats:
+            _warn_duplicates(repeats, int(np.count_nonzero(reverse)), len(faces), duplicates)
+            if duplicates == "drop":
+                keep = ~repeat
+                faces, cross, norm = faces[keep], cross[keep], norm[keep]
         vertices, faces = drop_unused(vertices, faces)
         surface = Surface(
             vertices=vertices,
@@ -244,6 +438,8 @@ def prepare_surface(mesh, orient: str | None = None) -> Surface:
             area=0.5 * norm,
             normals=cross / norm[:, None],
             dropped_faces=dropped,
+            duplicate_faces=repeats,
+            duplicates=duplicates,
         )
     return surface if orient is None else surface.oriented(orient)
 

@@ -6,13 +6,16 @@ TEXT_COLUMNS <- c("file", "File", "status", "error", "distance_type",
 # Read the command's CSV: every column as text first, so that an error message
 # with commas, quotes or line breaks comes through unchanged; then each
 # column that holds only numbers (or nothing) as doubles, read from the
-# shortest-repr text the command writes, so exactly.
+# shortest-repr text the command writes, so exactly.  A cell that begins
+# with an apostrophe had one put there by the command (so that a spreadsheet
+# does not run a name such as "=HYPERLINK(...).ply" as a formula): exactly
+# one is removed, as dentopo's read_table does.
 read_dentopo_csv <- function(path) {
   table <- utils::read.csv(path, colClasses = "character", na.strings = character(),
                            check.names = FALSE, encoding = "UTF-8",
                            fileEncoding = "UTF-8", strip.white = FALSE)
   for (name in names(table)) {
-    text <- table[[name]]
+    text <- sub("^'", "", table[[name]])
     empty <- !nzchar(text)
     if (name %in% TEXT_COLUMNS) {
       text[empty] <- NA_character_

@@ -48,3 +48,15 @@ test_that("a usage error stops with the command's message", {
                "usage error (exit status 2): dentopo: error: unrecognized arguments: --no-such-option",
                fixed = TRUE)
 })
+
+test_that("a name that a spreadsheet would run as a formula comes back as it was", {
+  skip_without_dentopo()
+  dir <- withr::local_tempdir()
+  # the command writes these with a leading apostrophe (one more for "'quoted"),
+  # which read_dentopo_csv removes
+  names <- c("=1+2.ply", "@SUM(A1).ply", "-2.ply", "'quoted.ply")
+  for (name in names) write_sphere_ply(file.path(dir, name))
+  table <- dentopo_batch(file.path(dir, names), metrics = "classic", columns = "molar")
+  expect_setequal(table$File, names)  # molaR's File column: base names
+  expect_true(all(table$status == "ok"))
+})
