@@ -43,7 +43,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
 import dentopo  # noqa: E402
-from dentopo.batch import measure_mesh  # noqa: E402
+from dentopo.batch._measure import measure_mesh  # noqa: E402
 from dentopo.topography import (  # noqa: E402
     angularity,
     arc,

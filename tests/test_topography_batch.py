@@ -85,12 +85,16 @@ def test_molar_columns_in_molar_order(crowns, tmp_path, capsys):
     header, *rows = _rows(out)
     assert header[: len(MOLAR_HEADER)] == MOLAR_HEADER
     assert header[len(MOLAR_HEADER) :] == [
+        "ARC",
+        "ARC_positive",
+        "ARC_negative",
         "ariaDNE",
         "positive_ariaDNE",
         "negative_ariaDNE",
         "orientation",
         "status",
         "error",
+        "warnings",
     ]
     assert [row[0] for row in rows] == ["a_up.ply", "b_bumpy.ply", "c_down.ply"]  # base names
     records = read_table(out)  # molaR's layout reads back into records
@@ -236,18 +240,29 @@ def test_usage_errors(crowns, tmp_path, monkeypatch, capsys, options, message):
 
 
 def test_layouts_are_registered():
-    assert set(LAYOUTS) == {"dentopo", "signdne", "molar"}
-    assert layout("molar", ("classic",)).header == ("File", *MOLAR_HEADER[1:6], "status", "error")
+    assert set(LAYOUTS) == {"dentopo", "signdne", "molar", "doolkit"}
+    assert layout("molar", ("classic",)).header == (
+        "File",
+        *MOLAR_HEADER[1:6],
+        "status",
+        "error",
+        "warnings",
+    )
 
 
 @pytest.mark.parametrize("name", ROBUSTNESS_SET)
 def test_a_folder_gives_molar_batch_table(name, molar_topography, tmp_path):
-    """``dentopo DIR --metrics all --columns molar`` gives molaR's numbers, row by row."""
+    """``dentopo DIR --metrics all --columns molar --orient as-is``: molaR's numbers, row by row.
+
+    ``--orient as-is`` measures the crowns as molaR did, as they lie (pointing to -z).
+    """
     out = tmp_path / "t.csv"
     code = main([str(shared_mesh(name)), "--metrics", "all", "--columns", "molar",
-                 "-o", str(out), "-q"])  # fmt: skip
+                 "--orient", "as-is", "-o", str(out), "-q"])  # fmt: skip
     ref = molar_topography[name]
     (row,) = [dict(zip(h, r, strict=True)) for h, *rs in [_rows(out)] for r in rs]
+    for column in ("ARC", "ARC_positive", "ARC_negative"):  # after molaR's own columns
+        assert math.isclose(float(row[column]), float(ref[column]), rel_tol=1e-6)
     close = {"DNE": "DNE", "Convex_DNE": "convex_DNE", "Concave_DNE": "concave_DNE",
              "Convex_Area": "convex_area", "Concave_Area": "concave_area"}  # fmt: skip
     for ours, theirs in close.items():

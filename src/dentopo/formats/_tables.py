@@ -230,6 +230,9 @@ class Layout:
         None for a layout with fixed columns.
     metrics : tuple of str
         The metrics whose columns :attr:`columns` holds.
+    excluded : tuple of str
+        Headers a file of this layout never has (to tell it from another
+        layout whose required columns it shares).
     """
 
     name: str
@@ -242,6 +245,7 @@ class Layout:
     build: Builder | None = field(default=None, repr=False, compare=False)
     parse: Parser | None = field(default=None, repr=False, compare=False)
     metrics: tuple[str, ...] = ("ariadne",)
+    excluded: tuple[str, ...] = ()
 
     @property
     def header(self) -> tuple[str, ...]:
@@ -460,6 +464,7 @@ DOOLKIT = Layout(
     build=_doolkit_columns,
     parse=_doolkit_parse,
     metrics=DOOLKIT_METRICS,
+    excluded=("seconds",),  # a dentopo table of doolkit's metrics has n_vertices too
 )
 
 #: Column layouts by name; :func:`read_table` recognises a file's layout by its header.
@@ -777,7 +782,7 @@ def _detect(header: Sequence[str], path: str) -> Layout:
     names = set(header)
     # the most particular first: a doolkit table has dentopo's required columns too
     for candidate in sorted(LAYOUTS.values(), key=lambda c: -len(c.required)):
-        if all(name in names for name in candidate.required):
+        if names.issuperset(candidate.required) and names.isdisjoint(candidate.excluded):
             return candidate
     wanted = " or ".join(f"({', '.join(c.required)})" for c in LAYOUTS.values())
     raise ValueError(f"{path!r} is not a dentopo results table (it needs the columns {wanted})")

@@ -4,7 +4,9 @@ Classic DNE with its convex/concave split (``_classic_dne``, molaR's ``DNE``);
 mean surface slope (``_slope``, molaR's ``Slope``); orientation patch count and
 its rotated mean (``_opc``, molaR's ``OPC`` and ``OPCr``); the relief index with
 its alpha-shape footprint and molaR's search for an alpha (``_rfi``, molaR's
-``RFI``).  They share molaR's surface preparation (``_surface``) and the
+``RFI``); doolkit 1.42.2's footprint area, concave or convex (``_footprint``,
+doolkit's ``area2d``, its concave hull a port of mapbox's concaveman in
+``_concaveman``).  They share molaR's surface preparation (``_surface``) and the
 orientation check of the metrics that assume the crown points to +z
 (``_orientation``) and the checks of their parameters (``_parameters``);
 ``_metrics`` names them all, ariaDNE included, for a batch.  Their per-face
@@ -37,7 +39,14 @@ from ._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
 from ._arc import ARC_FIELDS, DOOLKIT_ARC_FIELDS, ARCResult, DoolkitARCResult, arc, doolkit_arc
 from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
 from ._dne_doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
-from ._footprint import FootprintResult, footprint_area
+from ._footprint import (
+    FOOTPRINT_FIELDS,
+    HULLS,
+    FootprintResult,
+    concave_hull,
+    convex_hull,
+    footprint_area,
+)
 from ._metrics import (
     ALIASES,
     ALL,
@@ -122,7 +131,9 @@ __all__ = [
     "DOOLKIT_ROTATION_KEYS",
     "DOOLKIT_SLOPE_FIELDS",
     "DUPLICATE_MODES",
+    "FOOTPRINT_FIELDS",
     "GROUPS",
+    "HULLS",
     "HYPSODONTY_FIELDS",
     "INCLINATION_FIELDS",
     "METRICS",
@@ -172,6 +183,8 @@ __all__ = [
     "check_min_area",
     "check_orient",
     "classic_dne",
+    "concave_hull",
+    "convex_hull",
     "doolkit_arc",
     "doolkit_dne",
     "doolkit_opc",

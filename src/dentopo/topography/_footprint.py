@@ -1,119 +1,402 @@
-"""The footprint area of a crown as doolkit 1.42.2's ``area2d`` computes it (convex hull only).
+"""The crown's footprint area as doolkit 1.42.2's ``area2d`` computes it: concave or convex.
 
-TEMPORARY: this module implements only ``hull="convex"`` and raises
-``NotImplementedError`` for ``"concave"``; the concaveman port replaces it.
+The footprint is the outline of the vertices' x-y positions, the crown seen
+from above along z.  doolkit draws it two ways:
 
-doolkit's convex footprint: the vertices' (x, y), exact duplicate rows
-dropped, ``grDevices::chull`` on them (unshifted, unrounded), and the
-shoelace area of the hull ring.  Here the hull is Andrew's monotone chain
-(duplicates and collinear points on the hull change nothing in the area).
+- **concave** (``area2d(mesh, method = "concave")``, doolkit's default and the
+  one its relief indices use): mapbox's concaveman hull (concavity 2, no
+  length threshold) of the unique x-y points, shifted so that both minima are
+  0 and **rounded to 4 decimals**, because doolkit hands them to the R package
+  concaveman, which writes them to the JavaScript library with
+  ``jsonlite::toJSON`` at its default ``digits = 4``;
+- **convex** (``method = "convex"``): the convex hull of the unique x-y points
+  as they are (``grDevices::chull``).
+
+The area is the shoelace area of the hull's ring.  The concave hull is this
+package's port of the JavaScript (:mod:`._concaveman`), which returns the same
+ring point for point, so the area is doolkit's to rounding in the last bits.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._jit import njit
-from ._angles import doolkit_mesh
+from . import _concaveman
+from ._orientation import Orientation, check_orient
+from ._surface import prepare_surface
 
-#: Footprint outlines.
+#: The hulls :func:`footprint_area` draws.
 HULLS = ("concave", "convex")
+
+#: The table field of each hull (doolkit's reference column names).
+FOOTPRINT_FIELDS = {"concave": "area2d", "convex": "area2d_convex"}
+
+#: jsonlite's default ``digits`` in ``toJSON``, which R's concaveman uses.
+JSON_DIGITS = 4
 
 
 @dataclass(frozen=True)
 class FootprintResult:
-    """A crown's footprint on the x-y plane.
+    """The footprint area of one mesh, as doolkit's ``area2d`` computes it.
 
     Attributes
     ----------
     area : float
-        Shoelace area of ``ring``, mesh units squared.
-    hull : str
-        ``"convex"`` (or ``"concave"``).
+        Footprint area, mesh units squared: the shoelace area of the hull's
+        ring (for the concave hull, of the ring on the shifted, 4-decimal
+        coordinates the hull was drawn on).
+    hull : {"concave", "convex"}
+        Which outline.
+    vertices, faces : int
+        Vertex and face counts of the cleaned mesh.
+    points : int
+        Distinct x-y positions among the vertices (the points the hull is
+        drawn around).
     ring : (k, 2) float64
-        The outline's points in order (counter-clockwise), not closed.
+        The ring's points in the mesh's own units and position (x, y of the
+        vertices, not shifted, not rounded), in the hull's order, not closed
+        (the first point is not repeated), clockwise seen from +z (x to the
+        right, y up).  Concave: concaveman's order, starting where concaveman
+        starts.
+    ring_vertices : (k,) int64
+        For each ring point, the first vertex of the cleaned mesh at that x-y
+        position.
+    orientation : Orientation or None
+        What was found of the crown's orientation and whether it was turned
+        (``orient="auto"``); None with ``orient="as-is"``, which does not look.
     """
 
     area: float
     hull: str
+    vertices: int
+    faces: int
+    points: int
     ring: np.ndarray = field(repr=False, compare=False)
+    ring_vertices: np.ndarray = field(repr=False, compare=False)
+    orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
-        """``{"area2d": ...}`` (concave) or ``{"area2d_convex": ...}``."""
-        return {"area2d" if self.hull == "concave" else "area2d_convex": self.area}
-
-
-@njit(cache=True)
-def _cross(points, o, a, b):
-    return (points[a, 0] - points[o, 0]) * (points[b, 1] - points[o, 1]) - (
-        points[a, 1] - points[o, 1]
-    ) * (points[b, 0] - points[o, 0])
-
-
-@njit(cache=True)
-def monotone_chain(points, order, hull):
-    """Andrew's monotone chain on `points` sorted by (x, y) in `order`: the hull into `hull`.
-
-    Writes the hull's point indices counter-clockwise (collinear points left
-    out) and returns how many.
-    """
-    k = 0
-    for p in order:
-        while k >= 2 and _cross(points, hull[k - 2], hull[k - 1], p) <= 0:
-            k -= 1
-        hull[k] = p
-        k += 1
-    lower = k + 1
-    for i in range(order.shape[0] - 2, -1, -1):
-        p = order[i]
-        while k >= lower and _cross(points, hull[k - 2], hull[k - 1], p) <= 0:
-            k -= 1
-        hull[k] = p
-        k += 1
-    return k - 1
+        """The table field: ``{"area2d": area}`` (concave) or ``{"area2d_convex": area}``."""
+        return {FOOTPRINT_FIELDS[self.hull]: self.area}
 
 
 def check_hull(hull) -> str:
-    """``"concave"`` or ``"convex"``."""
-    if not isinstance(hull, str) or hull not in HULLS:
+    """The footprint's hull: ``"concave"`` or ``"convex"``."""
+    if not isinstance(hull, str):
+        raise TypeError(f"hull must be a string; got {type(hull).__name__}")
+    if hull not in HULLS:
         raise ValueError(f"hull must be one of {HULLS}; got {hull!r}")
     return hull
 
 
+def unique_xy(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct x-y positions of the vertices, in order of first appearance.
+
+    Returns ``(xy, first)``: the (p, 2) positions and the index of the first
+    vertex at each.  Positions are equal when both coordinates are equal
+    (``-0.0`` equals ``0.0``), as R's ``unique`` on the coordinate rows.
+    """
+    xy = np.ascontiguousarray(vertices[:, :2], dtype=np.float64) + 0.0  # -0.0 -> 0.0
+    bits = xy.view(np.int64)  # equal bits <=> equal values (finite, no -0.0)
+    first = _first_of_each(np.ascontiguousarray(bits[:, 0]), np.ascontiguousarray(bits[:, 1]))
+    return xy[first], first
+
+
+@njit(cache=True)
+def _first_of_each(xb, yb):
+    """Indices of the first occurrence of each (xb, yb) pair, in order (a hash table)."""
+    n = xb.shape[0]
+    size = 1
+    while size < 2 * n:
+        size *= 2
+    table = np.full(size, -1, dtype=np.int64)
+    keep = np.empty(n, dtype=np.int64)
+    kept = 0
+    for i in range(n):
+        h = (xb[i] * -7046029254386353131) ^ (yb[i] * -4417276706812531889)
+        slot = (h ^ (h >> 29)) & (size - 1)
+        while True:
+            j = table[slot]
+            if j < 0:
+                table[slot] = i
+                keep[kept] = i
+                kept += 1
+                break
+            if xb[j] == xb[i] and yb[j] == yb[i]:
+                break
+            slot = (slot + 1) & (size - 1)
+    return keep[:kept].copy()
+
+
+def json_digits(values: np.ndarray, digits: int = JSON_DIGITS) -> np.ndarray:
+    """The numbers ``jsonlite::toJSON(values, digits = 4)`` writes, as JavaScript reads them back.
+
+    jsonlite (1.8) writes a double ``v`` with ``1e-5 < |v| < 2**31 - 1`` with
+    ``modp_dtoa2``: ``whole = trunc(|v|)``, ``t = (|v| - whole) * 10**digits``
+    in double precision, ``frac = trunc(t)``, one more when ``t - frac > 0.5``
+    (carrying into ``whole`` at ``10**digits``) or when ``t - frac == 0.5`` and
+    ``frac`` is odd or 0, then ``whole.frac`` with trailing zeros dropped.  This
+    equals ``sprintf("%.4f")`` except where the product ``t`` lands on a half
+    (``sprintf`` rounds the exact binary value).  Quirks kept:
+
+    - a half-way ``frac = 9999`` becomes 10000 without the carry and is written
+      ``whole.1`` (0.99995... can come back as ``whole + 0.1``);
+    - ``|v| <= 1e-5``, and ``|v| >= 2**31 - 1``, are written by
+      ``sprintf("%.*g")`` with ``ceil(min(17, max(1, log10|v|) + digits))``
+      significant digits: ``1e-05`` stays ``1e-05`` and ``2.5e-06`` stays
+      ``2.5e-06`` (five significant digits), while ``3e-05`` (above ``1e-5``)
+      is written ``0``;
+    - 0 is written ``0``.
+
+    The decimal text is then parsed as the nearest double (JavaScript's
+    ``JSON.parse``), which is ``(whole * 10**digits + frac) / 10**digits``
+    computed in double precision (both exact, the quotient correctly rounded).
+    """
+    if isinstance(digits, bool) or not isinstance(digits, int) or not 0 < digits < 10:
+        raise ValueError(f"digits must be an integer from 1 to 9; got {digits!r}")
+    v = np.ascontiguousarray(values, dtype=np.float64)
+    out = np.empty_like(v)
+    special = _json_digits(v.ravel(), float(10**digits), out.ravel())
+    for i in np.flatnonzero(special).tolist():  # sprintf("%.*g"): tiny, huge or zero
+        x = float(v.flat[i])
+        if not math.isfinite(x):
+            raise ValueError("coordinates must be finite")
+        if x == 0.0:
+            out.flat[i] = x
+            continue
+        width = math.ceil(min(17.0, max(1.0, math.log10(abs(x))) + digits))
+        out.flat[i] = float(f"{x:.{width}g}")
+    return out
+
+
+@njit(cache=True)
+def _json_digits(v, scale, out):
+    """modp_dtoa2's rounding of v into out (see json_digits); True where sprintf writes instead."""
+    special = np.zeros(v.shape[0], dtype=np.bool_)
+    for i in range(v.shape[0]):
+        x = v[i]
+        a = abs(x)
+        if not (a > 1e-5 and a < 2147483647.0):
+            if x == 0.0:
+                out[i] = x  # written "0" (or "-0")
+            else:
+                special[i] = True
+            continue
+        whole = float(int(a))  # a < 2**31
+        t = (a - whole) * scale
+        frac = math.floor(t)
+        diff = t - frac
+        if diff > 0.5:
+            frac += 1.0
+            if frac >= scale:
+                frac = 0.0
+                whole += 1.0
+        elif diff == 0.5 and (frac == 0.0 or int(frac) & 1 == 1):
+            frac += 1.0
+        if frac >= scale:  # a half-way 9...9 plus 1, not carried: written "whole.1"
+            value = (whole * 10.0 + 1.0) / 10.0
+        else:
+            value = (whole * scale + frac) / scale
+        out[i] = -value if x < 0.0 else value
+    return special
+
+
 def shoelace(ring: np.ndarray) -> float:
-    """The area enclosed by a closed ring of points (first not repeated), as a positive number."""
-    x, y = ring[:, 0], ring[:, 1]
-    return float(abs(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) / 2.0)
+    """Unsigned area of the polygon `ring` ((k, 2), not closed), fanned from its first point."""
+    if len(ring) < 3:
+        return 0.0
+    d = ring[1:] - ring[0]
+    return abs(float(np.sum(d[:-1, 0] * d[1:, 1] - d[1:, 0] * d[:-1, 1]))) / 2.0
 
 
-def footprint_area(mesh, *, hull: str = "concave") -> FootprintResult:
-    """The footprint's area, as doolkit's ``area2d(mesh, method = hull)``.
+def _check_points(points) -> np.ndarray:
+    try:
+        p = np.array(points, dtype=np.float64, copy=True)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"points must be numeric: {exc}") from exc
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise ValueError(f"points must have shape (n, 2); got {p.shape}")
+    if len(p) == 0:
+        raise ValueError("points is empty")
+    if not np.all(np.isfinite(p)):
+        raise ValueError("points must be finite")
+    return np.ascontiguousarray(p + 0.0)
+
+
+def _check_nonnegative(name: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number; got {type(value).__name__}")
+    value = float(value)
+    if not value >= 0:  # NaN too
+        raise ValueError(f"{name} must be at least 0; got {value!r}")
+    return value
+
+
+def concave_hull(points, *, concavity: float = 2.0, length_threshold: float = 0.0) -> np.ndarray:
+    """mapbox concaveman's concave hull of 2D points, as indices into `points`.
+
+    The JavaScript library concaveman 1.1 (Agafonkin, Mapbox), ported so that
+    it returns the same ring, point for point, ties included
+    (:mod:`dentopo.topography._concaveman`).  From the convex hull, each edge
+    in turn, first in first out, is bent inward through the point left
+    inside that is nearest to it, when that point is nearer to this edge than
+    to the two neighbouring edges, joining it crosses no edge of the outline,
+    and its distance to the nearer end is at most the edge's length divided
+    by `concavity`.  The points are used as given (no rounding): doolkit's
+    rounding is :func:`json_digits`, applied by :func:`footprint_area`.
+
+    Parameters
+    ----------
+    points : (n, 2) array_like
+        Finite x-y positions, n >= 1.  Equal positions are distinct points, as
+        in the JavaScript.  Never modified.
+    concavity : float, default 2
+        At least 0; larger gives a simpler outline, ``inf`` the convex hull,
+        values below 1 wild ones (concaveman's convention).
+    length_threshold : float, default 0
+        At least 0: edges shorter than this are not bent.
+
+    Returns
+    -------
+    (k,) int64
+        The ring's point indices, in concaveman's order (clockwise with x to
+        the right and y up, starting at the last point of its convex hull), without
+        repeating the first at the end (concaveman's JavaScript returns the
+        ring closed).  ``points[concave_hull(points)]`` is the ring.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For unusable points or parameters.
+
+    References
+    ----------
+    Agafonkin V. concaveman: a very fast 2D concave hull algorithm in
+    JavaScript. https://github.com/mapbox/concaveman (ISC licence).
+    Park J.-S., Oh S.-J. (2012). A new concave hull algorithm and concaveness
+    measure for n-dimensional datasets. J Inf Sci Eng 28, 587-600.
+
+    Examples
+    --------
+    >>> square = [(0, 0), (1, 0), (1, 1), (0, 1), (0.5, 0.5)]
+    >>> sorted(concave_hull(square).tolist())
+    [0, 1, 2, 3]
+    """
+    p = _check_points(points)
+    concavity = _check_nonnegative("concavity", concavity)
+    length_threshold = _check_nonnegative("length_threshold", length_threshold)
+    return _concaveman.concaveman_ring(p, concavity, length_threshold)[:-1].copy()
+
+
+def convex_hull(points) -> np.ndarray:
+    """Convex hull of 2D points as indices into `points`, clockwise (x right, y up), not closed.
+
+    Points on the hull's edges between its corners are left out; orientation
+    tests are exact.  Fewer than three distinct corners give one or two
+    indices.
+    """
+    return _convex_ring(_check_points(points))
+
+
+def _convex_ring(p: np.ndarray) -> np.ndarray:
+    ring = _concaveman.fast_convex_hull(p)
+    # a point can come twice only when all points coincide: keep it once
+    keep = ring != np.roll(ring, 1)
+    keep[0] = True
+    return ring[keep]
+
+
+def footprint_area(mesh, *, hull: str = "concave", orient: str = "as-is") -> FootprintResult:
+    """Footprint area as doolkit 1.42.2's ``area2d`` computes it.
+
+    1. **Points.** The x-y positions of the cleaned mesh's vertices (molaR's
+       cleaning, as every metric here: faces of zero area dropped, then
+       unused vertices; doolkit's reader keeps a vertex whose faces all have
+       zero area, which only matters if it sticks out of the outline), each
+       distinct position once, in order of first appearance
+       (:func:`unique_xy`).
+    2. **Concave** (doolkit's default): the points shifted so that the least x
+       and the least y are 0, rounded as ``jsonlite::toJSON(digits = 4)``
+       writes them (:func:`json_digits`: ``sprintf("%.4f")`` on every shared
+       mesh), then concaveman's hull with concavity 2 and no length threshold
+       (:func:`concave_hull`), the JavaScript library doolkit runs; the area
+       is the shoelace area of that ring on those rounded coordinates.
+    3. **Convex**: the convex hull of the points as they are (not shifted,
+       not rounded; ``grDevices::chull``), shoelace area.
+
+    The concave area depends on where the mesh lies only through the rounding
+    (the shift removes translation) and on the order of the vertices only
+    where concaveman meets exactly equal distances; the convex area on
+    neither.  Both depend on which axis is z: doolkit assumes the occlusal
+    plane is x-y.  Turning a crown upside down (``orient="auto"``) mirrors
+    the footprint, which changes the concave outline slightly.
 
     Parameters
     ----------
     mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
-        Read as doolkit reads it (single-precision coordinates).  Never modified.
+        The crown, or one prepared once for several metrics
+        (:func:`dentopo.topography.prepare_surface`).  Never modified.
     hull : {"concave", "convex"}, default "concave"
-        Only ``"convex"`` is implemented here.
+        Which outline (doolkit's ``method``).
+    orient : {"as-is", "auto"}, default "as-is"
+        ``"as-is"`` (doolkit's behaviour) projects the mesh as it lies, without
+        looking at its orientation; ``"auto"`` first turns a crown pointing to
+        -z (see :func:`dentopo.topography.find_orientation`).
+
+    Returns
+    -------
+    FootprintResult
 
     Raises
     ------
-    NotImplementedError
-        For ``hull="concave"``.
-    ValueError
-        For another `hull`, or a footprint of no area.
+    TypeError, ValueError
+        For an unusable mesh or parameter.
+
+    References
+    ----------
+    Thiery G., Gillet G., Lazzari V., Merceron G., Guy F. (2017). Was
+    Mesopithecus a seasonal eater? Insight from dental topography. Am J Phys
+    Anthropol 163, 702-712 (doolkit's relief indices on this footprint).
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from dentopo.topography import footprint_area
+    >>> box = trimesh.creation.box(extents=(2.0, 3.0, 1.0))
+    >>> footprint_area(box).area, footprint_area(box, hull="convex").area
+    (6.0, 6.0)
     """
     hull = check_hull(hull)
+    orient = check_orient(orient)
+    surface = prepare_surface(mesh, orient=None if orient == "as-is" else orient)
+    key = ("footprint", hull)
+    return surface._cached(key, lambda: _footprint(surface, hull))
+
+
+def _footprint(surface, hull: str) -> FootprintResult:
+    xy, first = surface._cached(("footprint", "xy"), lambda: unique_xy(surface.vertices))
     if hull == "concave":
-        raise NotImplementedError("the concave footprint (concaveman) is not implemented here")
-    points = np.ascontiguousarray(doolkit_mesh(mesh).vertices[:, :2])
-    order = np.lexsort((points[:, 1], points[:, 0]))
-    index = np.empty(2 * len(points) + 1, dtype=np.int64)
-    count = monotone_chain(points, order, index)
-    ring = points[index[:count]]
-    area = shoelace(ring) if count >= 3 else 0.0
-    if not area > 0:
-        raise ValueError("the footprint has no area: the vertices' x-y positions lie on one line")
-    return FootprintResult(area=area, hull=hull, ring=ring)
+        rounded = json_digits(xy - xy.min(axis=0))
+        ring = _concaveman.concaveman_ring(rounded, 2.0, 0.0)[:-1]
+        area = shoelace(rounded[ring])
+    else:
+        ring = _convex_ring(xy)
+        area = shoelace(xy[ring])
+    ring_xy = xy[ring]
+    ring_vertices = first[ring]
+    ring_xy.flags.writeable = False
+    ring_vertices.flags.writeable = False
+    return FootprintResult(
+        area=area,
+        hull=hull,
+        vertices=len(surface.vertices),
+        faces=len(surface.faces),
+        points=len(xy),
+        ring=ring_xy,
+        ring_vertices=ring_vertices,
+        orientation=surface.orientation,
+    )

@@ -354,3 +354,21 @@ def compensated_dot(values, weights):
         total = t
         error += sum_error + product_error
     return total + error
+
+
+@njit(cache=True)
+def packed_triples(faces, n, out):  # pragma: no cover
+    """Each face's three vertex indices sorted and packed into one integer, ``(a n + b) n + c``.
+
+    Equal keys are equal vertex sets (in any order); `n` is above every index
+    and small enough (below 2**21) that the key fits in an int64.
+    """
+    for f in range(faces.shape[0]):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        if a > b:
+            a, b = b, a
+        if b > c:
+            b, c = c, b
+        if a > b:
+            a, b = b, a
+        out[f] = (a * n + b) * n + c

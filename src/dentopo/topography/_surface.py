@@ -330,14 +330,19 @@ def repeated_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     reverse = np.zeros(m, dtype=bool)
     if m < 2:
         return first, reverse
-    key = np.sort(faces, axis=1).astype(np.int64)
-    n = int(key[:, 2].max()) + 1
-    if n < 2**20:  # the triple packed into one integer: one sort instead of three
-        packed = (key[:, 0] * n + key[:, 1]) * n + key[:, 2]
+    faces64 = np.ascontiguousarray(faces, dtype=np.int64)
+    n = int(faces64.max()) + 1
+    if n < 2**20:  # the sorted triple packed into one integer: one sort instead of three
+        packed = np.empty(m, dtype=np.int64)
+        _kernels.packed_triples(faces64, n, packed)
+        quick = np.sort(packed)  # no repeat (the usual case) is found without the order
+        if not (quick[1:] == quick[:-1]).any():
+            return first, reverse
         order = np.argsort(packed, kind="stable")  # stable: earlier faces first
         ordered = packed[order]
         same = ordered[1:] == ordered[:-1]
     else:
+        key = np.sort(faces64, axis=1)
         order = np.lexsort((key[:, 2], key[:, 1], key[:, 0]))
         ordered = key[order]
         same = np.all(ordered[1:] == ordered[:-1], axis=1)
