@@ -54,6 +54,7 @@ from ..topography import (
     shape_index,
     slope,
 )
+from ._errors import failure_reason, names_step
 
 
 @dataclass(frozen=True)
@@ -197,7 +198,10 @@ class Measurement:
             return None
         if len(self.metrics) == 1:
             return next(iter(self.errors.values()))
-        return "; ".join(f"{metric}: {reason}" for metric, reason in self.errors.items())
+        return "; ".join(
+            reason if names_step(reason, metric) else f"{metric}: {reason}"
+            for metric, reason in self.errors.items()
+        )
 
 
 def _values(metric: str, result) -> dict:
@@ -222,7 +226,9 @@ def _prepared(mesh, options: TopographyOptions):
     """The surface molaR's metrics share, or the reason it could not be prepared."""
     try:
         return prepare_surface(mesh, duplicates=options.duplicates)
-    except (ValueError, TypeError, ArithmeticError) as exc:
+    except OSError:
+        raise
+    except Exception as exc:  # each metric names it (see _errors: ours, or an internal error)
         return exc
 
 
@@ -343,8 +349,10 @@ def measure_mesh(
         given = mesh if metric == "ariadne" else surface
         try:
             result = _compute(metric, given, ariadne_options, options, progress)
-        except (ValueError, TypeError, ArithmeticError) as exc:  # this metric, on this mesh
-            errors[metric] = reason(exc)
+        except OSError:
+            raise  # reading the file (ariaDNE alone reads it): the row's error
+        except Exception as exc:  # this metric, on this mesh; not ours: an internal error
+            errors[metric] = failure_reason(metric, exc, reason)
             record.update(dict.fromkeys(keys))
             if metric == "opcr":
                 record.update(dict.fromkeys(rotation_key(d) for d in options.rotations()))

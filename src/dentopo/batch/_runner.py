@@ -30,16 +30,22 @@ from ..formats import (
     COLUMNS,
     DEFAULT_PER_VERTEX_FORMATS,
     METRIC_KEYS,
+    OUTPUT_SUFFIX,
     PerVertexOptions,
+    naming_the_file,
     per_vertex_names,
+    per_vertex_paths,
     read_table,
     record_keys,
+    record_source,
+    replaced_files,
     write_per_face,
     write_per_vertex,
 )
 from ..mesh import check_geometry, load_mesh
 from ..sign import check_sign_method
 from ..topography import check_metrics, check_orient, rotation_key
+from ._errors import failure_reason
 from ._inputs import find_mesh_files
 from ._interrupts import Interrupted, guard_interrupts
 from ._measure import Measurement, TopographyOptions, measure_mesh
@@ -165,14 +171,16 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
         numba.set_num_threads(min(settings.threads, numba.config.NUMBA_NUM_THREADS))
     start = time.perf_counter()
     measured = None
+    step = "reading"
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
                 phases = None if on_phase is None else partial(on_phase, task.file)
-                mesh = task.path  # read once by measure_mesh, unless a geometry is picked
-                if settings.geometry is not None:
-                    mesh = load_mesh(task.path, geometry=settings.geometry)
+                mesh = task.path  # ariaDNE alone reads the file itself
+                if settings.geometry is not None or settings.metrics != ("ariadne",):
+                    mesh = load_mesh(task.path, geometry=settings.geometry)  # once for all
+                step = "measuring"
                 measured = measure_mesh(
                     mesh,
                     settings.metrics,
@@ -181,14 +189,18 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                     reason=error_reason,
                     progress=phases,
                 )
+                step = "writing the per-vertex files"
                 if task.per_vertex_dir is not None and measured.status != "error":
                     _write_per_mesh(task, measured)
             except Exception as exc:  # one bad file never stops the batch
                 seconds = round(time.perf_counter() - start, 4)
                 if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
                     reason = "unreadable: a broken symbolic link"
+                elif isinstance(exc, OSError) and step == "writing the per-vertex files":
+                    reason = _output_reason(task, exc)  # an output's fault, not the input's
                 else:
-                    reason = error_reason(exc)
+                    reason = failure_reason(step, exc, error_reason)
+                reason = _shortened(reason)
                 record = error_record(task.file, reason, seconds, settings.keys())
                 measured = None
             else:
@@ -206,6 +218,21 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
     return Outcome(task.index, record, messages, measured if task.keep_result else None)
 
 
+def _shortened(reason: str) -> str:
+    reason = " ".join(reason.split())
+    return reason if len(reason) <= _MAX_REASON else reason[: _MAX_REASON - 3] + "..."
+
+
+def _output_reason(task: Task, exc: OSError) -> str:
+    """The row's error when a per-vertex or per-face file cannot be written (a full disk)."""
+    why = exc.strerror or str(exc) or type(exc).__name__
+    if exc.filename is not None:
+        where = f"the per-vertex file {os.fspath(exc.filename)!r}"
+    else:
+        where = f"the per-vertex files of {task.per_vertex_name!r} in {task.per_vertex_dir!r}"
+    return f"cannot write {where}: {why} (an output failed, not the input; rerun to write it)"
+
+
 def _write_per_mesh(task: Task, measured: Measurement) -> None:
     """The per-vertex files (ariaDNE) and per-face files (slope, OPC) of one mesh."""
     options = task.per_vertex
@@ -221,11 +248,61 @@ def _write_per_mesh(task: Task, measured: Measurement) -> None:
         )
     faces = {
         metric: measured.results[metric]
-        for metric in ("slope", "opc", "opcr")
+        for metric in PER_FACE_METRICS
         if metric in measured.results
     }
     if faces:
-        write_per_face(task.per_vertex_dir, task.per_vertex_name, faces, formats=options.formats)
+        base = os.path.join(task.per_vertex_dir, task.per_vertex_name + ".dentopo.faces.*")
+        with naming_the_file(base):
+            write_per_face(
+                task.per_vertex_dir, task.per_vertex_name, faces, formats=options.formats
+            )
+    if ariadne is not None or faces:  # which mesh these files are (replaced_per_vertex_files)
+        record_source(task.per_vertex_dir, task.per_vertex_name, task.path)
+
+
+#: The metrics with per-face files (``NAME.dentopo.faces.*``) in the per-vertex folder.
+PER_FACE_METRICS = ("slope", "opc", "opcr")
+
+
+def planned_per_vertex_files(task: Task, metrics: Iterable[str]) -> list[str]:
+    """The per-vertex and per-face files `task` writes if its metrics succeed (none without)."""
+    if task.per_vertex_dir is None:
+        return []
+    metrics = tuple(metrics)
+    return per_vertex_paths(
+        task.per_vertex_dir,
+        task.per_vertex_name,
+        task.per_vertex.formats,
+        vertices="ariadne" in metrics,
+        faces=any(m in metrics for m in PER_FACE_METRICS),
+    )
+
+
+def replaced_per_vertex_files(tasks: Sequence[Task]) -> list[tuple[str, str, str | None, str]]:
+    """Per-vertex files that `tasks` will replace although another mesh's (another run's).
+
+    Two runs into one per-vertex folder whose meshes share a base name
+    (``a/tooth.ply`` and ``b/tooth.ply``) write the same files: the second
+    replaces the first's.  Each folder records which mesh each base name was
+    written for (:func:`dentopo.formats.record_source`); rewriting the files
+    of the same mesh is not listed.
+
+    Returns
+    -------
+    list of (directory, name, previous, source)
+        ``previous`` is the mesh the files were written for, or None if not
+        recorded (files of an older version, or not dentopo's).
+    """
+    by_directory: dict[str, dict[str, str]] = {}
+    for task in tasks:
+        if task.per_vertex_dir is not None:
+            by_directory.setdefault(task.per_vertex_dir, {})[task.per_vertex_name] = task.path
+    return [
+        (directory, name, previous, source)
+        for directory, sources in by_directory.items()
+        for name, previous, source in replaced_files(directory, sources)
+    ]
 
 
 def _failed(task: Task, reason: str, seconds: float | None = None) -> Outcome:
@@ -299,6 +376,16 @@ def _run_dask(tasks: Sequence[Task], settings: Settings, scheduler) -> Iterator[
             client.close()
 
 
+def replaced_message(directory: str, name: str, previous: str | None, source: str) -> str:
+    """The warning for per-vertex files of another mesh that are about to be replaced."""
+    files = os.path.join(directory, name + OUTPUT_SUFFIX + ".*")
+    was = f"written for {previous!r}" if previous else "not recorded as this mesh's"
+    return (
+        f"per-vertex files {files!r} ({was}) are replaced by those of {source!r}: give each "
+        "batch its own per-vertex folder to keep both"
+    )
+
+
 def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
     """Files (as absolute paths) with an ``ok`` row holding what `settings` computes.
 
@@ -350,14 +437,19 @@ def plan_batch(
     per_vertex: PerVertexOptions | None = None,
     keep_results: bool = False,
     absolute: bool = False,
+    batch: Sequence[str] | None = None,
 ) -> list[Task]:
     """Tasks for `files` (in order): display names, paths to open, output names.
 
     `per_vertex` says what the files in `per_vertex_dir` are written as
     (formats, colour limits); by default PLY and CSV coloured at the 98th
-    percentile of each mesh's ``|local_curvature|``.
+    percentile of each mesh's ``|local_curvature|``.  The per-vertex base
+    names are unique within `batch` (default `files`): pass every file of a
+    resumed batch, so that a file keeps its name whichever files are left.
     """
-    names = per_vertex_names(files)
+    every = list(files) if batch is None else list(batch)
+    unique = dict(zip(every, per_vertex_names(every), strict=True))
+    names = [unique[f] if f in unique else per_vertex_names([f])[0] for f in files]
     per_vertex = PerVertexOptions() if per_vertex is None else per_vertex
     directory = None if per_vertex_dir is None else os.path.abspath(os.fspath(per_vertex_dir))
     return [
@@ -582,6 +674,10 @@ def compute_batch(
     per_vertex_dir : path-like, optional
         Existing directory for each mesh's per-vertex files,
         ``<name>.dentopo.<format>`` (see :func:`dentopo.write_per_vertex`).
+        Names are unique within the batch; the directory records which mesh
+        each name was written for (``.dentopo-sources.jsonl``), and replacing
+        the files of another mesh (another batch's ``tooth.ply``) warns.  A
+        file that cannot be written gives that mesh an error row naming it.
     per_vertex_formats : str or iterable of str, default ("ply", "csv")
         Which per-vertex files: some of ``"ply"``, ``"vtp"``, ``"npz"``,
         ``"csv"`` (or one comma-separated string).
@@ -615,7 +711,8 @@ def compute_batch(
     Warns
     -----
     UserWarning
-        For each file whose computation warned, prefixed with the file name.
+        For each file whose computation warned, prefixed with the file name;
+        for per-vertex files of another mesh that are replaced.
 
     Examples
     --------
@@ -675,7 +772,12 @@ def compute_batch(
         per_vertex_dir=per_vertex_dir,
         per_vertex=per_vertex,
         absolute=scheduler is not None,
+        batch=found.files,
     )
+    for directory, name, previous, source in replaced_per_vertex_files(tasks):
+        warnings.warn(
+            replaced_message(directory, name, previous, source), UserWarning, stacklevel=2
+        )
     records: list[dict | None] = [None] * len(tasks)
     for count, outcome in enumerate(run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler)):
         records[outcome.index] = outcome.record

@@ -35,6 +35,9 @@ from ..batch import (
     make_settings,
     merge_records,
     plan_batch,
+    planned_per_vertex_files,
+    replaced_message,
+    replaced_per_vertex_files,
     resumable_files,
     run_tasks,
 )
@@ -46,7 +49,9 @@ from ..formats import (
     PER_VERTEX_FORMATS,
     NotAJournalError,
     PerVertexOptions,
+    journal_path,
     layout,
+    lock_path,
     read_table,
     table_format,
     write_table,
@@ -54,7 +59,7 @@ from ..formats import (
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
 from ..topography import BOUNDARY_RULES, DUPLICATE_MODES, GROUPS, METRICS, ORIENT_MODES
-from ._output import TableOutput, directory_problem, writable_problem
+from ._output import Planned, TableOutput, output_problem
 from ._progress import PROG, Progress
 from ._progress import say as _say
 from ._table import print_layout, print_table, table_columns
@@ -116,7 +121,8 @@ exit codes:
        be written
   2    usage error, found before any file is computed: bad options, no mesh
        files found, an extra the options need is not installed, an --output
-       that cannot be written
+       that cannot be written, an output that would replace an input or
+       another output of the run, or whose suffix its writer does not write
   130  interrupted by Ctrl-C or SIGTERM: the rows done are written; rerun with
        --resume to finish
 
@@ -442,9 +448,6 @@ def _check_usage(args) -> str | None:
             table_format(args.output).check_available()
         except (ValueError, ImportError) as exc:
             return str(exc)
-        problem = writable_problem(args.output, "--output")  # now, not after the last mesh
-        if problem:
-            return problem
     problem = _report_problem(args)
     if problem:
         return problem
@@ -459,19 +462,6 @@ def _check_usage(args) -> str | None:
         )
     if args.per_vertex_format and args.per_vertex is None:
         return "--per-vertex-format needs --per-vertex DIR"
-    if args.per_vertex is not None:  # a directory, or one that can be made, and written
-        problem = directory_problem(args.per_vertex, "--per-vertex")
-        if problem:
-            return problem
-    if args.panel is not None and os.path.splitext(args.panel)[1].lower() not in (
-        *PICTURE_FORMATS,
-        ".html",
-    ):
-        return "--panel must end in .png, .svg, .pdf or .html"
-    if args.screenshot is not None and (
-        os.path.splitext(args.screenshot)[1].lower() not in PICTURE_FORMATS
-    ):
-        return "--screenshot must end in .png, .svg or .pdf"
     if args.dpi is not None and not 10 <= args.dpi <= 2400:
         return "--dpi must lie in 10..2400"
     return None
@@ -483,12 +473,50 @@ def _report_problem(args) -> str | None:
         return None
     if args.output in (None, STDOUT):
         return "--report is made from the table written: give -o FILE too"
-    if os.path.abspath(args.report) == os.path.abspath(args.output):
-        return "--report and --output name the same file"
     from ..report import check_report_extras
 
     check_report_extras()  # MissingExtraError: one line naming the extra, exit 2
-    return writable_problem(args.report, "--report")
+    return None  # its path: see _output_problem
+
+
+#: What the HTML page of --html and --report is written as.
+HTML_SUFFIXES = (".html", ".htm")
+
+
+def _planned_outputs(args, files: list[str], settings, per_vertex) -> list[Planned]:
+    """Every file and folder this run will write (see :func:`._output.output_problem`)."""
+    planned = []
+    if args.per_vertex is not None:  # first: another output is then named as "also" one of them
+        directory = os.path.abspath(args.per_vertex)
+        for task in plan_batch(files, settings, per_vertex_dir=directory, per_vertex=per_vertex):
+            what = f"the per-vertex file of {task.file!r} (--per-vertex)"
+            for path in planned_per_vertex_files(task, settings.metrics):
+                shown = os.path.join(args.per_vertex, os.path.basename(path))
+                planned.append(Planned(what, shown))
+    if args.output not in (None, STDOUT):
+        table = args.output
+        planned.append(Planned("--output", table, tuple(FORMATS), "a table", check=True))
+        planned.append(Planned("the journal of --output", journal_path(table)))
+        planned.append(Planned("the lock of --output", lock_path(table)))
+    pages = (("--report", args.report), ("--html", args.html))
+    for option, path in pages:
+        if path is not None:
+            planned.append(Planned(option, path, HTML_SUFFIXES, "an HTML page", check=True))
+    if args.screenshot is not None:
+        kind = "a picture"
+        planned.append(Planned("--screenshot", args.screenshot, PICTURE_FORMATS, kind, check=True))
+    if args.panel is not None:
+        suffixes = (*PICTURE_FORMATS, ".html")
+        planned.append(Planned("--panel", args.panel, suffixes, "a picture or a page", check=True))
+    if args.per_vertex is not None:
+        planned.append(Planned("--per-vertex", args.per_vertex, check=True, folder=True))
+    return planned
+
+
+def _output_problem(args, files: list[str], settings, per_vertex) -> str | None:
+    """An output that is an input, another output, or has the wrong suffix (or None)."""
+    inputs = [("the input mesh", file) for file in files]
+    return output_problem(_planned_outputs(args, files, settings, per_vertex), inputs)
 
 
 def _missing_extra(args, settings, scheduler) -> str | None:
@@ -602,6 +630,10 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
     except (ValueError, TypeError) as exc:
         _say(f"cannot draw: {exc}")
         return 2
+    except OSError as exc:  # a full disk: the picture's file, not the input
+        where = f" {exc.filename!r}" if exc.filename is not None else ""
+        _say(f"cannot write the picture{where}: {exc.strerror or exc}")
+        return 1
     return 0
 
 
@@ -757,6 +789,10 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             f"--show, --screenshot and --html draw one mesh; {len(files)} were given (see --panel)"
         )
         return 2
+    problem = _output_problem(args, files, settings, per_vertex)  # before anything is written
+    if problem:
+        _say(problem)
+        return 2
     render = _load_renderer() if rendering else None
     if rendering and render is None:
         return 2
@@ -847,7 +883,12 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
         per_vertex=per_vertex,
         keep_results=rendering,
         absolute=scheduler is not None,
+        batch=files,  # the names checked by _output_problem, whichever files are left
     )
+    replaced = replaced_per_vertex_files(tasks)
+    if replaced:  # two runs into one folder: say so (one line), then replace
+        more = f" (and the files of {len(replaced) - 1} more meshes)" if len(replaced) > 1 else ""
+        _say(f"warning: {replaced_message(*replaced[0])}{more}")
 
     progress = Progress(len(tasks), quiet=args.quiet)
     outcomes: dict[int, Outcome] = {}
@@ -937,7 +978,7 @@ def _write(
     columns = layout(args.columns, settings.metrics, settings.rotations())
     if failed and not columns.failed_rows:
         _say(f"{failed} failed file(s) left out of the table (--columns {columns.name})")
-    computed = any(r["status"] == "ok" for r in new)
+    computed = any(r["status"] != "error" for r in new)  # a partial row is a computed row
     if args.output == STDOUT:
         write_table(sys.stdout, records, columns=columns)
         sys.stdout.flush()
@@ -945,7 +986,7 @@ def _write(
         output.discard_journal()  # nothing done, nothing to write
     elif output is not None and not computed and os.path.exists(args.output):
         if tasks:  # every file failed (or none was reached): keep the old table as it is
-            _say(f"no mesh was computed: {args.output} left as it was")
+            _say(f"no mesh was computed (every file failed): {args.output} left as it was")
         elif not args.quiet:
             _say(f"every file was already done: {args.output} left as it was")
         output.discard_journal()

@@ -14,6 +14,13 @@ from collections.abc import Callable
 from .._optional import MissingExtraError
 from .._version import __version__
 from ._progress import PROG, say
+from ._streams import (
+    StreamError,
+    forget_stderr_failure,
+    guarded_stdout,
+    silence,
+    stderr_failed,
+)
 
 # ``dentopo NAME ARGS...`` runs ``SUBCOMMANDS[NAME](ARGS)`` and exits with the integer it
 # returns.  A value is a callable ``f(argv: list[str]) -> int`` or, better, a lazy
@@ -36,17 +43,40 @@ def _run_subcommand(name: str, argv: list[str]) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the ``dentopo`` command with `argv` (default ``sys.argv[1:]``); the exit code."""
+    """Run the ``dentopo`` command with `argv` (default ``sys.argv[1:]``); the exit code.
+
+    A failed write to stdout ends the command with exit 1 and one line on
+    stderr (a closed pipe, ``| head``, quietly with 0); a failed write to
+    stderr is dropped and makes the exit code at least 1 (see ``_streams``).
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
+    forget_stderr_failure()
+    with guarded_stdout():
+        try:
+            code = _main(argv)
+        except StreamError as exc:
+            if not exc.broken_pipe:
+                say(str(exc))
+            code = 0 if exc.broken_pipe else 1
+    if stderr_failed():
+        code = max(code, 1)
+    return code
+
+
+def _main(argv: list[str]) -> int:
     if argv == ["--version"]:  # as the main command's parser says it, without loading it
         print(f"{PROG} {__version__}")
+        sys.stdout.flush()
         return 0
     try:
         if argv and argv[0] in SUBCOMMANDS:
-            return _run_subcommand(argv[0], argv[1:])
-        from ._compute import compute_main  # numba, scipy, trimesh: only when there is work
+            code = _run_subcommand(argv[0], argv[1:])
+        else:
+            from ._compute import compute_main  # numba, scipy, trimesh: only when there is work
 
-        return compute_main(argv, tuple(SUBCOMMANDS))
+            code = compute_main(argv, tuple(SUBCOMMANDS))
+        sys.stdout.flush()  # a full stdout is found now, not in Python's flush at exit
+        return code
     except MissingExtraError as exc:  # wherever it is found: one line naming the extra
         say(str(exc))
         return 2
@@ -59,6 +89,11 @@ def run() -> None:
     """Console-script entry point."""
     try:
         code = main()
-    except BrokenPipeError:  # e.g. ``dentopo scans/ | head``
+    except BrokenPipeError:  # not through sys.stdout (e.g. a library printing directly)
         code = 0
+    for stream in (sys.stdout, sys.stderr):  # Python's flush at exit must not fail again
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            silence(stream)
     sys.exit(code)

@@ -19,6 +19,9 @@ table printed on the terminal have no journal and no lock.
 from __future__ import annotations
 
 import os
+import stat
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 
 from ..batch import merge_records
 from ..formats import (
@@ -62,6 +65,122 @@ def directory_problem(path: str, what: str) -> str | None:
     if not os.path.isdir(existing):
         return f"{what} {path!r}: {existing!r} is not a directory"
     return writable_problem(os.path.join(existing, "probe"), what)
+
+
+@dataclass(frozen=True)
+class Planned:
+    """One file (or folder) a run will write, for :func:`output_problem`.
+
+    Attributes
+    ----------
+    what : str
+        How messages name it: ``"--report"``, ``"the per-vertex file of 'a.ply'"``.
+    path : str
+        Where it goes, as given.
+    suffixes : tuple of str
+        The suffixes its writer writes (lower case, with the dot); empty: any.
+    kind : str
+        What is written there (``"an HTML page"``), for the suffix message.
+    check : bool
+        Check that it can be written (a file; a folder with `folder`).
+    folder : bool
+        A folder the run writes files into (``--per-vertex``).
+    """
+
+    what: str
+    path: str
+    suffixes: tuple[str, ...] = ()
+    kind: str = ""
+    check: bool = False
+    folder: bool = False
+
+
+def _or(items) -> str:
+    items = list(items)
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " or " + items[-1]
+
+
+class _Identities:
+    """Paths resolved (symbolic links, ``..``, the working directory) and their inodes."""
+
+    def __init__(self):
+        self._folders: dict[str, str] = {}
+
+    def keys(self, path: str) -> tuple[str, tuple[int, int] | None]:
+        """The resolved path of `path`, and its (device, inode) if it exists (hard links)."""
+        absolute = os.path.abspath(path)
+        folder, name = os.path.split(absolute)
+        if folder not in self._folders:  # once per folder: a batch has many files in few folders
+            self._folders[folder] = os.path.realpath(folder)
+        resolved = os.path.join(self._folders[folder], name) if name else self._folders[folder]
+        try:
+            status = os.lstat(resolved)
+        except OSError:
+            return resolved, None
+        if stat.S_ISLNK(status.st_mode):
+            resolved = os.path.realpath(resolved)
+            try:
+                status = os.stat(resolved)
+            except OSError:
+                return resolved, None
+        return resolved, (status.st_dev, status.st_ino)
+
+
+def output_problem(
+    outputs: Sequence[Planned], inputs: Iterable[tuple[str, str]] = ()
+) -> str | None:
+    """Why the outputs of a run must not be written, as one line naming the path; or None.
+
+    Every output of one run is checked here, before anything is computed, in
+    this order: an output that is one of the `inputs` (``(what, path)``: the
+    meshes, a table read) would replace it; two outputs that are one file would
+    replace each other (``-o pv/a.dentopo.csv --per-vertex pv``); an output
+    whose suffix its writer does not write; an output that cannot be written.
+    Paths are compared resolved (symbolic links, relative paths) and by inode
+    (hard links).
+    """
+    identities = _Identities()
+    sources: dict[object, tuple[str, str]] = {}
+    for what, path in inputs:
+        resolved, inode = identities.keys(path)
+        sources.setdefault(resolved, (what, path))
+        if inode is not None:
+            sources.setdefault(inode, (what, path))
+    seen: dict[object, Planned] = {}
+    for output in outputs:
+        resolved, inode = identities.keys(output.path)
+        for key in (resolved, inode):
+            if key is None:
+                continue
+            if key in sources:
+                what, path = sources[key]
+                same = "" if path == output.path else f" {path!r}"
+                return (
+                    f"{output.what} {output.path!r} is {what}{same}: writing it would replace "
+                    "it; choose another file"
+                )
+            if key in seen and seen[key] is not output:
+                first = seen[key]
+                return (
+                    f"{output.what} {output.path!r} is also {first.what}"
+                    + ("" if first.path == output.path else f" {first.path!r}")
+                    + ": one would replace the other; choose another file"
+                )
+        for key in (resolved, inode):
+            if key is not None:
+                seen.setdefault(key, output)
+    for output in outputs:
+        ext = os.path.splitext(output.path)[1].lower()
+        if output.suffixes and ext not in output.suffixes:
+            kind = f" ({output.kind})" if output.kind else ""
+            return f"{output.what} {output.path!r} must end in {_or(output.suffixes)}{kind}"
+    for output in outputs:
+        if output.check:
+            check = directory_problem if output.folder else writable_problem
+            problem = check(output.path, output.what)
+            if problem:
+                return problem
+    return None
 
 
 class TableOutput:

@@ -16,6 +16,8 @@ import os
 import sys
 import time
 
+from ._streams import write_stderr
+
 PROG = "dentopo"
 
 #: In plain-line progress, phases within a mesh are reported once it has taken this long.
@@ -31,8 +33,8 @@ def is_terminal(stream) -> bool:
 
 
 def say(message: str) -> None:
-    """One plain line ``dentopo: message`` on stderr."""
-    print(f"{PROG}: {message}", file=sys.stderr, flush=True)
+    """One plain line ``dentopo: message`` on stderr (dropped if stderr cannot be written)."""
+    write_stderr(f"{PROG}: {message}\n")
 
 
 def _columns():

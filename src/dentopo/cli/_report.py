@@ -12,6 +12,7 @@ import argparse
 import os
 
 from ..report import check_report_extras, write_report
+from ._output import Planned, output_problem
 from ._progress import PROG
 from ._progress import say as _say
 
@@ -94,8 +95,9 @@ def report_main(argv: list[str]) -> int:
         return 2
     check_report_extras()  # a missing extra: one line (the entry point prints it), exit 2
     output = args.output or _default_output(args.table)
-    if os.path.abspath(output) == os.path.abspath(args.table):
-        _say(f"the report would overwrite the table {args.table!r}: give -o FILE.html")
+    problem = report_problem(output, "-o" if args.output else "the report", args.table, args.groups)
+    if problem:
+        _say(problem)
         return 2
     return make_report(
         args.table,
@@ -107,6 +109,17 @@ def report_main(argv: list[str]) -> int:
         percentile=args.percentile,
         jobs=args.jobs or None,
     )
+
+
+#: What a report is written as.
+REPORT_SUFFIXES = (".html", ".htm")
+
+
+def report_problem(output: str, what: str, table: str, groups: str | None = None) -> str | None:
+    """Why the report cannot be written at `output` (an input, not .html, ...), or None."""
+    inputs = [("the table", table)] + ([("--groups", groups)] if groups else [])
+    page = Planned(what, output, REPORT_SUFFIXES, "an HTML page", check=True)
+    return output_problem([page], inputs)
 
 
 def report_after_batch(table: str, output: str, *, quiet: bool = False) -> int:

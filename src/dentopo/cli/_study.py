@@ -9,10 +9,10 @@ missing extra ends as one line naming it, with exit code 2.
 from __future__ import annotations
 
 import argparse
-import sys
 
 from .._optional import STUDY_FIGURES, MissingExtraError
 from ..sign import SIGN_METHODS
+from ._streams import write_stderr
 
 
 def _robustness_parser() -> argparse.ArgumentParser:
@@ -81,6 +81,11 @@ def _sweep_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _err(message: str) -> None:
+    """One line on stderr (dropped if stderr cannot be written: the files are written anyway)."""
+    write_stderr(message + "\n")
+
+
 def _print_rows(rows, columns) -> None:
     print("\t".join(columns))
     for row in rows:
@@ -97,7 +102,7 @@ def _missing_figures(prog: str, figures: bool) -> bool:
         try:
             STUDY_FIGURES.check()
         except MissingExtraError as exc:
-            print(f"{prog}: {exc}", file=sys.stderr)
+            _err(f"{prog}: {exc}")
             return True
     return False
 
@@ -110,7 +115,7 @@ def _bandwidths_ok(prog: str, bandwidths) -> bool:
         for bandwidth in bandwidths:
             check_bandwidth(bandwidth)
     except ValueError as exc:
-        print(f"{prog}: {exc}", file=sys.stderr)
+        _err(f"{prog}: {exc}")
         return False
     return True
 
@@ -128,10 +133,7 @@ def robustness_main(argv: list[str]) -> int:
         for item in args.perturbation:
             name, sep, path = item.partition("=")
             if not sep or not name or not path:
-                print(
-                    f"dentopo robustness: --perturbation wants NAME=PATH; got {item!r}",
-                    file=sys.stderr,
-                )
+                _err(f"dentopo robustness: --perturbation wants NAME=PATH; got {item!r}")
                 return 2
             perturbations[name] = path
     if _missing_figures("dentopo robustness", not args.no_figures):
@@ -150,10 +152,10 @@ def robustness_main(argv: list[str]) -> int:
         )
         written = write_study(study, args.output, figures=not args.no_figures)
     except MissingExtraError as exc:
-        print(f"dentopo robustness: {exc}", file=sys.stderr)
+        _err(f"dentopo robustness: {exc}")
         return 2
     except (OSError, ValueError, TypeError, ImportError) as exc:
-        print(f"dentopo robustness: {exc}", file=sys.stderr)
+        _err(f"dentopo robustness: {exc}")
         return 1
     _print_rows(
         study.rows,
@@ -167,7 +169,7 @@ def robustness_main(argv: list[str]) -> int:
         ),
     )
     for path in written:
-        print(f"wrote {path}", file=sys.stderr)
+        _err(f"wrote {path}")
     return 0
 
 
@@ -186,12 +188,12 @@ def sweep_main(argv: list[str]) -> int:
         )
         written = write_sweep(sweep, args.output, figures=not args.no_figures)
     except MissingExtraError as exc:
-        print(f"dentopo sweep: {exc}", file=sys.stderr)
+        _err(f"dentopo sweep: {exc}")
         return 2
     except (OSError, ValueError, TypeError, ImportError) as exc:
-        print(f"dentopo sweep: {exc}", file=sys.stderr)
+        _err(f"dentopo sweep: {exc}")
         return 1
     _print_rows(sweep.rows, SWEEP_COLUMNS)
     for path in written:
-        print(f"wrote {path}", file=sys.stderr)
+        _err(f"wrote {path}")
     return 0

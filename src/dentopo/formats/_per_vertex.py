@@ -25,8 +25,10 @@ whose ``vertex_attributes`` hold the arrays.
 from __future__ import annotations
 
 import base64
+import contextlib
 import csv
 import hashlib
+import json
 import os
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
@@ -291,6 +293,8 @@ def write_per_vertex(
     ------
     ValueError
         For an unknown format or bad colour limits.
+    OSError
+        If a file cannot be written (a full disk); its ``filename`` is the file.
     """
     formats = per_vertex_formats(formats)
     base = os.path.join(os.fspath(directory), name + OUTPUT_SUFFIX)
@@ -306,19 +310,153 @@ def write_per_vertex(
     paths = {}
     for fmt in formats:
         path = f"{base}.{fmt}"
-        if fmt == "ply":
-            data = _ply_bytes(vertices, faces, arrays, colors, comment)
-            atomic_write(path, lambda stream, data=data: stream.write(data), binary=True)
-        elif fmt == "vtp":
-            text = _vtp_text(vertices, faces, arrays, colors)
-            atomic_write(path, lambda stream, text=text: stream.write(text))
-        elif fmt == "npz":
-            mesh = {"vertices": vertices, "faces": faces, **arrays, "colors": colors}
-            atomic_write(path, lambda stream, mesh=mesh: np.savez(stream, **mesh), binary=True)
-        else:
-            atomic_write(path, lambda stream: _write_csv(stream, vertices, arrays))
+        with naming_the_file(path):
+            if fmt == "ply":
+                data = _ply_bytes(vertices, faces, arrays, colors, comment)
+                atomic_write(path, lambda stream, data=data: stream.write(data), binary=True)
+            elif fmt == "vtp":
+                text = _vtp_text(vertices, faces, arrays, colors)
+                atomic_write(path, lambda stream, text=text: stream.write(text))
+            elif fmt == "npz":
+                mesh = {"vertices": vertices, "faces": faces, **arrays, "colors": colors}
+                atomic_write(path, lambda stream, mesh=mesh: np.savez(stream, **mesh), binary=True)
+            else:
+                atomic_write(path, lambda stream: _write_csv(stream, vertices, arrays))
         paths[fmt] = path
     return paths
+
+
+@contextlib.contextmanager
+def naming_the_file(path: str):
+    """Raise an ``OSError`` met while writing `path` with `path` as its ``filename``.
+
+    A full disk fails in ``write()``, whose ``OSError`` names no file; a message
+    can then say which output could not be written.
+    """
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is not None:
+            raise
+        error = OSError(exc.errno, exc.strerror or str(exc) or type(exc).__name__, path)
+        raise error from exc
+
+
+# --- which mesh the files of a folder were written for ----------------------------------------
+
+#: In a per-vertex folder: one JSON line ``{"name": ..., "source": ...}`` each time the files of
+#: a base name are written, saying for which mesh file (resolved path); the last line of a name
+#: counts.  Hidden, so never taken for a mesh.
+SOURCES_FILE = ".dentopo-sources.jsonl"
+
+_FACES = ".faces"  # the per-face files' extra suffix (``_per_face.FACES_SUFFIX``)
+
+
+def per_vertex_paths(
+    directory: str | os.PathLike,
+    name: str,
+    formats: str | Iterable[str] = DEFAULT_PER_VERTEX_FORMATS,
+    *,
+    vertices: bool = True,
+    faces: bool = False,
+) -> list[str]:
+    """The files written for one mesh, for each format.
+
+    ``NAME.dentopo.FMT`` (`vertices`: ariaDNE's values) and
+    ``NAME.dentopo.faces.FMT`` (`faces`: the per-face values of slope and OPC).
+    """
+    base = os.path.join(os.fspath(directory), name + OUTPUT_SUFFIX)
+    formats = per_vertex_formats(formats)
+    paths = [f"{base}.{fmt}" for fmt in formats] if vertices else []
+    return paths + ([f"{base}{_FACES}.{fmt}" for fmt in formats] if faces else [])
+
+
+def record_source(directory: str | os.PathLike, name: str, source: str | os.PathLike) -> None:
+    """Note in `directory`'s :data:`SOURCES_FILE` that the files of `name` are those of `source`.
+
+    One line appended in one write (``O_APPEND``), so that runs writing into one
+    folder at the same time do not mix their lines; a link at its place is not
+    followed.
+
+    Raises
+    ------
+    OSError
+        If it cannot be written (named in ``filename``).
+    """
+    path = os.path.join(os.fspath(directory), SOURCES_FILE)
+    line = json.dumps({"name": name, "source": os.path.realpath(os.fspath(source))})
+    flags = os.O_WRONLY | os.O_APPEND | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0)
+    with naming_the_file(path):
+        descriptor = os.open(path, flags, 0o644)
+        try:
+            os.write(descriptor, (line + "\n").encode("utf-8", "surrogatepass"))
+        finally:
+            os.close(descriptor)
+
+
+def recorded_sources(directory: str | os.PathLike) -> dict[str, str]:
+    """The mesh each base name's files in `directory` were last written for (:func:`record_source`).
+
+    Unreadable lines (a run killed while appending) are skipped; a missing or
+    unreadable record gives an empty mapping.
+    """
+    path = os.path.join(os.fspath(directory), SOURCES_FILE)
+    sources: dict[str, str] = {}
+    try:
+        with open(path, encoding="utf-8", errors="surrogateescape") as stream:
+            for line in stream:
+                try:
+                    entry = json.loads(line)
+                    sources[str(entry["name"])] = str(entry["source"])
+                except (ValueError, KeyError, TypeError):
+                    continue
+    except OSError:
+        return {}
+    return sources
+
+
+def replaced_files(
+    directory: str | os.PathLike, sources: dict[str, str]
+) -> list[tuple[str, str | None, str]]:
+    """The base names whose files in `directory` were written for another mesh than planned.
+
+    Parameters
+    ----------
+    directory : path-like
+        A per-vertex folder.
+    sources : dict
+        The mesh file each base name is about to be written for.
+
+    Returns
+    -------
+    list of (name, previous, source)
+        For each name that already has files in `directory`, written for another
+        mesh (`previous`, resolved), or whose mesh was not recorded (`previous`
+        None: files of an earlier version, or not written by dentopo), sorted
+        by name.  Rewriting the files of the same mesh is not listed.
+    """
+    directory = os.fspath(directory)
+    try:
+        entries = os.listdir(directory)
+    except OSError:
+        return []
+    present = set()
+    endings = [
+        f"{OUTPUT_SUFFIX}{faces}.{fmt}" for faces in (_FACES, "") for fmt in PER_VERTEX_FORMATS
+    ]
+    for entry in entries:
+        for ending in endings:
+            if entry.endswith(ending):
+                present.add(entry[: -len(ending)])
+                break
+    recorded = recorded_sources(directory) if present else {}
+    replaced = []
+    for name in sorted(present.intersection(sources)):
+        source = os.path.realpath(sources[name])
+        previous = recorded.get(name)
+        if previous != source:
+            replaced.append((name, previous, source))
+    return replaced
 
 
 # --- readers ---------------------------------------------------------------------------------

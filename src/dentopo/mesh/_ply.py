@@ -34,6 +34,7 @@ for every quad, then larger polygons as fans ``(p0, pi, pi+1)``.
 from __future__ import annotations
 
 import os
+import stat
 from dataclasses import dataclass
 
 import numpy as np
@@ -570,6 +571,51 @@ def _triangles(count: np.ndarray, flat: np.ndarray) -> np.ndarray:
     return np.vstack([tri, quad[:, [0, 1, 2]], quad[:, [2, 3, 0]], fans]).reshape(-1, 3)
 
 
+_NOT_REGULAR = (
+    (stat.S_ISFIFO, "a FIFO"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+    (stat.S_ISDIR, "a directory"),
+)
+
+
+def check_regular(status: os.stat_result, path: str) -> None:
+    """Raise ``ValueError`` unless `status` (of `path`) is a regular file's.
+
+    A FIFO blocks its reader until something writes to it, and a device such
+    as ``/dev/zero`` never ends; both have a size of 0, and were called empty.
+    """
+    if stat.S_ISREG(status.st_mode):
+        return
+    kind = next((name for test, name in _NOT_REGULAR if test(status.st_mode)), "not a file")
+    raise ValueError(f"{path!r} is not a regular file ({kind}): give a mesh file")
+
+
+def open_regular(path: str):
+    """Open `path` for reading in binary, refusing what is not a regular file; never blocks.
+
+    Opened without blocking (a FIFO with no writer would wait for one), then
+    checked on the open file itself (so a file swapped for a FIFO in between is
+    refused too).
+
+    Raises
+    ------
+    ValueError
+        If it is a FIFO, a device, a socket or a directory.
+    """
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
+    descriptor = os.open(path, flags)
+    try:
+        check_regular(os.fstat(descriptor), path)
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(descriptor, True)
+        return os.fdopen(descriptor, "rb")
+    except BaseException:
+        os.close(descriptor)
+        raise
+
+
 def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
     """Read the vertices and triangles of a PLY file, strictly (see the module's notes).
 
@@ -594,7 +640,7 @@ def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
         or face indices outside the vertices.
     """
     path = os.fspath(path)
-    with open(path, "rb") as handle:
+    with open_regular(path) as handle:
         data = handle.read()
     where = f"could not read mesh file {path!r}: "
     fmt, elements, offset, first_line = _header(data, where)

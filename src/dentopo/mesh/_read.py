@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
-from ._ply import read_ply
+from ._ply import check_regular, open_regular, read_ply
 from ._tolerance import merge_vertices
 from ._validate import check_finite, check_indices, plural
 
@@ -231,6 +231,7 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
         raise FileNotFoundError(f"mesh file not found: {path!r}")
     if os.path.isdir(path):
         raise ValueError(f"{path!r} is a directory, not a mesh file")
+    check_regular(os.stat(path), path)  # a FIFO would block, a device never end
     if os.path.getsize(path) == 0:
         raise ValueError(f"mesh file is empty: {path!r}")
     extension = os.path.splitext(path)[1].lower()
@@ -277,7 +278,7 @@ def _check_obj_vertices(path: str) -> None:
     trimesh's OBJ reader drops vertices that no face uses before we see them, so
     the file itself is scanned (only when "nan" or "inf" appears in it at all).
     """
-    with open(path, "rb") as handle:
+    with open_regular(path) as handle:
         data = handle.read()
     lowered = data.lower()
     if b"nan" not in lowered and b"inf" not in lowered:
