@@ -30,7 +30,7 @@ from dentopo.topography._footprint import json_digits, shoelace, unique_xy
 def concaveman_ring(points, concavity, length_threshold):
     """The compiled concaveman's closed ring (its first index repeated at the end)."""
     points = np.ascontiguousarray(points, dtype=np.float64)
-    out = np.empty(len(points) + 1, dtype=np.int64)
+    out = np.empty(2 * len(points) + 3, dtype=np.int64)
     return out[: _concaveman.concaveman_ring(points, concavity, length_threshold, out)]
 
 

@@ -370,7 +370,9 @@ def _stable_xy_order(fx, fy):
 
 @njit(cache=True)
 def fast_convex_hull(p, out):
-    """concaveman's convex hull of the points (n >= 1) into `out` ((n,) int64): its length.
+    """concaveman's convex hull of the points (n >= 1) into `out` (room for ``2 n + 3``).
+
+    Returns its length.
 
     Point indices, not closed.  (A kernel called from Python returns no array:
     numba's boxing of a returned array is where Ctrl-C crashed.)
@@ -1079,7 +1081,7 @@ def _crosses(x1, y1, x2, y2, x3, y3, x4, y4):
 
 @njit(cache=True)
 def concaveman_ring(points, concavity, length_threshold, out):
-    """:func:`_concaveman_ring` into `out` ((n + 1,) int64): the ring's length."""
+    """:func:`_concaveman_ring` into `out` (int64, room for ``2 n + 3``): the ring's length."""
     ring = _concaveman_ring(points, concavity, length_threshold)
     out[: ring.shape[0]] = ring
     return ring.shape[0]

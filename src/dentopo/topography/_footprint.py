@@ -306,13 +306,13 @@ def convex_hull(points) -> np.ndarray:
 
 def _concave_ring(p: np.ndarray, concavity: float, length_threshold: float) -> np.ndarray:
     """concaveman's ring as indices into `p`, not closed (the JavaScript repeats its first)."""
-    out = np.empty(len(p) + 1, dtype=np.int64)
+    out = np.empty(2 * len(p) + 3, dtype=np.int64)  # room for the repeats of tiny inputs
     size = _concaveman.concaveman_ring(p, concavity, length_threshold, out)
     return out[: size - 1].copy()
 
 
 def _convex_ring(p: np.ndarray) -> np.ndarray:
-    out = np.empty(len(p), dtype=np.int64)
+    out = np.empty(2 * len(p) + 3, dtype=np.int64)  # coincident points may come twice
     ring = out[: _concaveman.fast_convex_hull(p, out)]
     # a point can come twice only when all points coincide: keep it once
     keep = ring != np.roll(ring, 1)
