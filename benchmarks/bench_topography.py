@@ -124,7 +124,7 @@ def _median_times(calls: dict, targets: dict, repeat: int) -> dict:
 def _fresh(surface: Surface) -> Surface:
     """`surface` prepared and its orientation found, nothing else kept (as a batch row has it)."""
     cleaned = dataclasses.replace(surface.cleaned)
-    cleaned._cache["orientation"] = surface.orientation
+    cleaned._cache["orientation"] = surface.cleaned._cache["orientation"]  # found, inward faces
     return cleaned.oriented("as-is")
 
 

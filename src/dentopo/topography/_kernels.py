@@ -372,3 +372,85 @@ def packed_triples(faces, n, out):  # pragma: no cover
         if a > b:
             a, b = b, a
         out[f] = (a * n + b) * n + c
+
+
+@njit(cache=True)
+def agreeing_winding(faces, group_start, group_edge, groups):  # pragma: no cover
+    """Whether no directed edge is run twice (see :meth:`Surface.consistent`).
+
+    Directed edge ``e = k * m + f`` runs from ``faces[f, k]`` to
+    ``faces[f, (k + 1) % 3]``; in each group of edges on one pair of vertices,
+    at most one may run from the lower index to the higher and at most one back.
+    """
+    m = faces.shape[0]
+    for g in range(groups):
+        up = 0
+        down = 0
+        for s in range(group_start[g], group_start[g + 1]):
+            e = group_edge[s]
+            f, k = e % m, e // m
+            if faces[f, k] < faces[f, (k + 1) % 3]:
+                up += 1
+            else:
+                down += 1
+        if up > 1 or down > 1:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _root(parent, v):  # pragma: no cover
+    while parent[v] != v:
+        parent[v] = parent[parent[v]]
+        v = parent[v]
+    return v
+
+
+@njit(cache=True)
+def closed_volume(points, faces, cross, boundary):  # pragma: no cover
+    """Six times the signed volume of the faces closed by a fan over each boundary loop.
+
+    `points` are the vertices about their mean, `cross` the faces'
+    ``(v2 - v1) x (v3 - v1)`` from them; each connected set of `boundary`
+    edges (a loop) is closed by the triangles ``(b, a, centre)`` of its edges
+    ``a -> b``, ``centre`` the mean of the loop's vertices.  Linear in the
+    faces and edges (a union-find over the boundary's vertices).
+    """
+    volume = 0.0
+    for f in range(faces.shape[0]):
+        i = faces[f, 0]
+        volume += points[i, 0] * cross[f, 0] + points[i, 1] * cross[f, 1]
+        volume += points[i, 2] * cross[f, 2]
+    k = boundary.shape[0]
+    if k == 0:
+        return volume
+    n = points.shape[0]
+    parent = np.arange(n)
+    for e in range(k):
+        a, b = _root(parent, boundary[e, 0]), _root(parent, boundary[e, 1])
+        if a != b:
+            parent[a] = b
+    seen = np.zeros(n, dtype=np.bool_)
+    centre = np.zeros((n, 3))
+    count = np.zeros(n, dtype=np.int64)
+    for e in range(k):
+        for j in range(2):
+            v = boundary[e, j]
+            if not seen[v]:
+                seen[v] = True
+                r = _root(parent, v)
+                count[r] += 1
+                for d in range(3):
+                    centre[r, d] += points[v, d]
+    for e in range(k):
+        a, b = boundary[e, 0], boundary[e, 1]
+        r = _root(parent, a)
+        cx = centre[r, 0] / count[r]
+        cy = centre[r, 1] / count[r]
+        cz = centre[r, 2] / count[r]
+        ax, ay, az = points[a, 0], points[a, 1], points[a, 2]
+        # b . (a x c)
+        volume += points[b, 0] * (ay * cz - az * cy)
+        volume += points[b, 1] * (az * cx - ax * cz)
+        volume += points[b, 2] * (ax * cy - ay * cx)
+    return volume

@@ -51,8 +51,6 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from ..mesh import boundary_edges, orient_consistently
 from . import _kernels
@@ -193,27 +191,17 @@ def closed_volume(
     (``det(x1, x2, x3) = x1 . ((x2 - x1) x (x3 - x1))``).
     """
     origin = vertices.mean(axis=0)
-    points = vertices - origin
+    points = np.ascontiguousarray(vertices - origin)
     if cross is None:
         tri = points[faces]
         cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    volume = np.einsum("ij,ij->", points[faces[:, 0]], cross)
-    if len(boundary):
-        n = len(vertices)
-        graph = coo_matrix((np.ones(len(boundary)), (boundary[:, 0], boundary[:, 1])), shape=(n, n))
-        _, label = connected_components(graph, directed=False)
-        used = np.unique(boundary.ravel())
-        loop_of_vertex = np.unique(label[used], return_inverse=True)[1].ravel()
-        loops = int(loop_of_vertex.max()) + 1
-        centre = np.zeros((loops, 3))
-        np.add.at(centre, loop_of_vertex, points[used])
-        centre /= np.bincount(loop_of_vertex, minlength=loops)[:, None]
-        loop = np.zeros(n, dtype=np.int64)
-        loop[used] = loop_of_vertex
-        # the cap triangle (b, a, centre) of each boundary edge a -> b
-        b, a, c = points[boundary[:, 1]], points[boundary[:, 0]], centre[loop[boundary[:, 0]]]
-        volume += np.einsum("ij,ij->i", b, np.cross(a, c)).sum()
-    return float(volume / 6.0)
+    six = _kernels.closed_volume(
+        points,
+        np.ascontiguousarray(faces, dtype=np.int64),
+        np.ascontiguousarray(cross, dtype=np.float64),
+        np.ascontiguousarray(boundary, dtype=np.int64).reshape(-1, 2),
+    )
+    return float(six / 6.0)
 
 
 def survey(

@@ -148,16 +148,7 @@ class Surface:
 
     def consistent(self) -> bool:
         """Whether no directed edge is run twice (neighbouring faces agree on their winding)."""
-        group_start, group_edge, groups = self.edge_groups()
-        if groups == 0:
-            return True
-        m = len(self.faces)
-        tail = self.faces.T.ravel()[group_edge]  # edge e = k * m + f starts at faces[f, k]
-        head = self.faces[group_edge % m, (group_edge // m + 1) % 3]
-        low = (tail < head).astype(np.int64)
-        sizes = np.diff(group_start[: groups + 1])
-        ups = np.add.reduceat(low, group_start[:groups])
-        return not (np.any(ups > 1) or np.any(sizes - ups > 1))
+        return bool(_kernels.agreeing_winding(self.faces, *self.edge_groups()))
 
     def edge_uses(self) -> np.ndarray:
         """(3m,) int64: for directed edge ``e = k * m + f``, how many faces use its two vertices."""
