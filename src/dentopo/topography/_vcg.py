@@ -265,9 +265,12 @@ def border_faces(surface, rule: str = "vertex") -> np.ndarray:
     if rule == "none":
         return np.zeros(len(faces), dtype=bool)
     if rule == "vertex":
-        found = cached(
-            surface, "border_vertex", lambda: border_vertices(surface)[faces].any(axis=1)
-        )
+
+        def at_border():
+            flags = border_vertices(surface)  # three lookups: faster than any(axis=1)
+            return flags[faces[:, 0]] | flags[faces[:, 1]] | flags[faces[:, 2]]
+
+        found = cached(surface, "border_vertex", at_border)
     elif rule == "leg":
         m = len(faces)
         found = cached(
