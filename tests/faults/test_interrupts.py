@@ -465,3 +465,36 @@ def test_a_signal_in_rfis_delaunay_sweep_stops_the_run_promptly(big_footprint, t
     assert len(lines) == 1, ran.describe()
     assert seconds < PROMPT + 1.0, (seconds, ran.describe())  # the process's exit included
     assert not out.exists()
+
+
+EXACT_WINDING_SCRIPT = """
+import sys
+import numpy as np
+from dentopo.samples import tooth
+from dentopo.sign import exact_winding_number
+
+mesh = tooth(rings=150)  # 135k faces: 2000 exact queries take about 7 s on two cores
+vertices, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+points = vertices[:2000] + 1e-3
+exact_winding_number(vertices, faces, points[:4])  # loads the compiled code
+print("start", file=sys.stderr, flush=True)
+try:
+    exact_winding_number(vertices, faces, points)
+except KeyboardInterrupt:
+    print("KeyboardInterrupt", file=sys.stderr, flush=True)
+    sys.exit(0)
+print("finished without an interrupt", file=sys.stderr, flush=True)
+"""
+
+
+# Before the fix the exact sums were one compiled call over every query: a Ctrl-C 1 s in
+# waited for all of them (about 6 s more).  They now run in blocks of queries.
+def test_ctrl_c_in_the_exact_winding_sums_is_a_prompt_keyboard_interrupt():
+    run = start_python(EXACT_WINDING_SCRIPT)
+    sent = interrupt_when(run, r"^start", 1.0)
+    run.wait_for(r"KeyboardInterrupt|finished|Error", timeout=60.0)
+    seconds = time.monotonic() - sent
+    ran = run.finish()
+    assert ran.returncode == 0, ran.describe()
+    assert ran.stderr.splitlines()[-1] == "KeyboardInterrupt", ran.describe()
+    assert seconds < PROMPT, (seconds, ran.describe())
