@@ -257,6 +257,49 @@ def test_cocircular_points_fall_back_to_qhull():
     assert np.array_equal(simplices, tri.simplices) and np.array_equal(neighbors, tri.neighbors)
 
 
+@pytest.mark.parametrize("name", ["normal", "noise1", "random"])
+def test_the_sweep_in_slices_is_the_sweep_in_one_call(name, monkeypatch):
+    # the sweep and its certification run in bounded compiled calls (so that Ctrl-C and
+    # SIGTERM are raised between them): any slicing gives the same triangles, bit for bit
+    from dentopo.topography import _delaunay
+
+    if name == "random":
+        points = np.random.default_rng(5).random((20_000, 2))
+    else:
+        points = _footprint(load_mesh(shared_mesh(name)))
+    most = 3 * (2 * len(points) - 5)
+    outputs = []
+    for per_call in (len(points), 1, 7, 1000):
+        triangles = np.full(most, -9, np.int64)
+        halfedges = np.full(most, -9, np.int64)
+        count = _delaunay._sweep(points, triangles, halfedges, per_call=per_call)
+        assert count > 0
+        certified = _delaunay._certified(points, triangles, halfedges, count, per_call=per_call)
+        outputs.append((count, certified, triangles, halfedges))
+    for count, certified, triangles, halfedges in outputs[1:]:
+        assert count == outputs[0][0] and certified is outputs[0][1] is True
+        assert np.array_equal(triangles, outputs[0][2])
+        assert np.array_equal(halfedges, outputs[0][3])
+    monkeypatch.setattr(_delaunay, "INSERTIONS_PER_CALL", 3)
+    monkeypatch.setattr(_delaunay, "CHECKS_PER_CALL", 5)
+    small = delaunay(points)
+    monkeypatch.undo()
+    whole = delaunay(points)
+    assert all(np.array_equal(a, b) for a, b in zip(small, whole, strict=True))
+
+
+def test_a_failed_certificate_in_slices_is_still_a_failure():
+    from dentopo.topography import _delaunay
+
+    points = np.random.default_rng(6).random((500, 2))
+    most = 3 * (2 * len(points) - 5)
+    triangles, halfedges = np.empty(most, np.int64), np.empty(most, np.int64)
+    count = _delaunay._sweep(points, triangles, halfedges)
+    triangles[3 * count - 3 : 3 * count] = triangles[3 * count - 3 : 3 * count][::-1].copy()
+    for per_call in (None, 1, 7):
+        assert not _delaunay._certified(points, triangles, halfedges, count, per_call=per_call)
+
+
 # --- a batch row ------------------------------------------------------------------------------
 
 

@@ -308,3 +308,22 @@ def test_close_holes_finds_the_boundary_of_consistent_faces_like_boundary_edges(
     vertices, faces = close_holes(sphere.vertices, flipped)
     closed = trimesh.Trimesh(vertices, faces, process=False)
     assert closed.is_watertight and closed.is_winding_consistent
+
+
+def test_the_exact_sums_in_blocks_of_queries_are_those_of_one_call(tooth, monkeypatch):
+    # the exact sums run in blocks of queries (so that Ctrl-C and SIGTERM are raised
+    # between blocks): every block size gives the same values, bit for bit
+    from dentopo.sign import _winding
+
+    vertices, faces = np.asarray(tooth.vertices), np.asarray(tooth.faces)
+    tri = np.ascontiguousarray(vertices[faces], dtype=np.float64)
+    rng = np.random.default_rng(7)
+    queries = vertices[rng.choice(len(vertices), 300)] + rng.normal(scale=1e-3, size=(300, 3))
+    queries = np.ascontiguousarray(queries)
+    whole = np.empty(len(queries))
+    _winding._exact_sums(tri, queries, whole)
+    for per_call in (None, 1, 7, 299, 300, 10_000):
+        assert np.array_equal(_winding._exact(tri, queries, per_call), whole), per_call
+    monkeypatch.setattr(_winding, "EXACT_PAIRS_PER_CALL", 1)  # one query a thread per call
+    expected = exact_winding_number(vertices, faces, queries)
+    assert np.array_equal(expected, whole / (4.0 * np.pi))

@@ -13,7 +13,10 @@ starts, workers included) are switched on by environment variables:
 ``DENTOPO_TEST_SLOW_WRITE=SECONDS``
     writing a table file first says ``dentopo-test: writing TABLE`` and waits;
 ``DENTOPO_TEST_KERNEL=1``
-    each exact ariaDNE kernel says ``dentopo-test: kernel N points`` as it starts.
+    each exact ariaDNE kernel says ``dentopo-test: kernel N points`` as it starts;
+``DENTOPO_TEST_DELAUNAY=1``
+    RFI's Delaunay triangulation says ``dentopo-test: delaunay N points`` as it
+    starts and ``dentopo-test: delaunay done`` as it ends.
 
 :func:`start_python` runs Python code the same way (a script that calls the
 library).

@@ -419,3 +419,106 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
             continue
         for signature in kernel.nopython_signatures:
             assert not _returns_an_array(signature.return_type), (name, signature)
+
+
+def write_shuffled_grid(path, side: int, seed: int = 0):
+    """A dome over a jittered ``side`` x ``side`` grid, its vertices in random order.
+
+    The order makes RFI's Delaunay sweep slow (no locality): with 1200 a side
+    (1.4M vertices) it runs for about 4.5 s on two cores, after about 8 s of
+    reading and cleaning.
+    """
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    x, y = np.meshgrid(np.arange(side, dtype=float), np.arange(side, dtype=float), indexing="ij")
+    xy = np.stack([x.ravel(), y.ravel()], 1) + rng.uniform(-0.3, 0.3, (side * side, 2))
+    r2 = ((xy - side / 2) ** 2).sum(1) / (side / 2) ** 2
+    z = np.sqrt(np.clip(1.2 - r2, 0, None)) * side / 3 + rng.normal(scale=0.1, size=len(xy))
+    vertices = np.column_stack([xy, z]).astype("<f4")
+    idx = np.arange(side * side).reshape(side, side)
+    a, b = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel()
+    c, d = idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    faces = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    perm = rng.permutation(len(vertices))
+    inverse = np.empty_like(perm)
+    inverse[perm] = np.arange(len(perm))
+    rows = np.empty(len(faces), dtype=[("n", "u1"), ("v", "<i4", 3)])
+    rows["n"] = 3
+    rows["v"] = inverse[faces]
+    header = (
+        f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\n"
+        "property float x\nproperty float y\nproperty float z\n"
+        f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
+    )
+    path.write_bytes(header.encode() + vertices[perm].tobytes() + rows.tobytes())
+    return path
+
+
+@pytest.fixture(scope="module")
+def big_footprint(tmp_path_factory):
+    return write_shuffled_grid(tmp_path_factory.mktemp("footprint") / "grid.ply", 1200)
+
+
+# Before the fix RFI's Delaunay sweep was one compiled call: a Ctrl-C or SIGTERM 1 s into
+# it with -j 1 waited for the whole sweep (3.5 s more here; 24-34 s on a 1M-vertex noisy
+# crown under load).  The sweep now runs in bounded calls, and Python reacts between them.
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_in_rfis_delaunay_sweep_stops_the_run_promptly(big_footprint, tmp_path, signum):
+    out = tmp_path / "out.csv"
+    run = start(
+        str(big_footprint),
+        "--metrics",
+        "rfi",
+        "-j",
+        "1",
+        "-o",
+        str(out),
+        env=environment(DENTOPO_TEST_DELAUNAY="1"),
+    )
+    run.wait_for(r"dentopo-test: delaunay \d+ points", timeout=120.0)
+    time.sleep(1.0)  # well inside the sweep (about 4.5 s on two cores)
+    sent = time.monotonic()
+    run.send(signum)
+    ran = run.finish()
+    seconds = time.monotonic() - sent
+    lines = [line for line in ran.stderr.splitlines() if not line.startswith("dentopo-test:")]
+    expected = "interrupted: " if signum == signal.SIGINT else "interrupted (SIGTERM): "
+    assert_clean_stop(ran, expected + "0 of 1 files done")
+    assert "dentopo-test: delaunay done" not in ran.stderr, ran.describe()
+    assert len(lines) == 1, ran.describe()
+    assert seconds < PROMPT + 1.0, (seconds, ran.describe())  # the process's exit included
+    assert not out.exists()
+
+
+EXACT_WINDING_SCRIPT = """
+import sys
+import numpy as np
+from dentopo.samples import tooth
+from dentopo.sign import exact_winding_number
+
+mesh = tooth(rings=150)  # 135k faces: 2000 exact queries take about 7 s on two cores
+vertices, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+points = vertices[:2000] + 1e-3
+exact_winding_number(vertices, faces, points[:4])  # loads the compiled code
+print("start", file=sys.stderr, flush=True)
+try:
+    exact_winding_number(vertices, faces, points)
+except KeyboardInterrupt:
+    print("KeyboardInterrupt", file=sys.stderr, flush=True)
+    sys.exit(0)
+print("finished without an interrupt", file=sys.stderr, flush=True)
+"""
+
+
+# Before the fix the exact sums were one compiled call over every query: a Ctrl-C 1 s in
+# waited for all of them (about 6 s more).  They now run in blocks of queries.
+def test_ctrl_c_in_the_exact_winding_sums_is_a_prompt_keyboard_interrupt():
+    run = start_python(EXACT_WINDING_SCRIPT)
+    sent = interrupt_when(run, r"^start", 1.0)
+    run.wait_for(r"KeyboardInterrupt|finished|Error", timeout=60.0)
+    seconds = time.monotonic() - sent
+    ran = run.finish()
+    assert ran.returncode == 0, ran.describe()
+    assert ran.stderr.splitlines()[-1] == "KeyboardInterrupt", ran.describe()
+    assert seconds < PROMPT, (seconds, ran.describe())

@@ -56,6 +56,7 @@ number of threads.  Everything is O((points + faces) log faces).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from .._jit import njit, prange
@@ -681,10 +682,26 @@ def _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, wo
         work[i] = visits
 
 
-def _exact(tri: np.ndarray, queries: np.ndarray) -> np.ndarray:
-    """Exact solid angles (4 pi w) at the queries: the sum over every triangle."""
+#: (query, triangle) pairs ``_exact_sums`` sums per call and thread: about a tenth of a second,
+#: so that Python reacts to Ctrl-C and SIGTERM between calls.
+EXACT_PAIRS_PER_CALL = 2_000_000
+
+
+def _exact(tri: np.ndarray, queries: np.ndarray, per_call: int | None = None) -> np.ndarray:
+    """Exact solid angles (4 pi w) at the queries: the sum over every triangle.
+
+    The queries go to ``_exact_sums`` in blocks of `per_call` (by default
+    ``EXACT_PAIRS_PER_CALL`` pairs a thread, one query a thread at least); each
+    query's sum is its own, so the values do not depend on the blocks.
+    """
+    if per_call is None:
+        threads = numba.get_num_threads()
+        per_call = max(threads, EXACT_PAIRS_PER_CALL * threads // max(1, len(tri)))
+    per_call = max(1, int(per_call))
     out = np.empty(len(queries))
-    _exact_sums(tri, queries, out)
+    for start in range(0, len(queries), per_call):
+        part = slice(start, min(len(queries), start + per_call))
+        _exact_sums(tri, queries[part], out[part])
     return out
 
 

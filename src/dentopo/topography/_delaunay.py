@@ -178,9 +178,24 @@ def _pseudo_angle(dx, dy):
     return (3.0 - p if dy > 0 else 1.0 + p) / 4.0
 
 
+#: Points the sweep adds per compiled call (``_insert``): a few tenths of a second at most, so
+#: that Python reacts to Ctrl-C and SIGTERM between calls.  The result does not depend on it.
+INSERTIONS_PER_CALL = 65_536
+
+#: Halfedges (or triangles) ``_certify_edges`` (``_certify_triangles``) checks per call.
+CHECKS_PER_CALL = 1_048_576
+
+
 @njit(cache=True)
-def _sweep(points, triangles, halfedges):
-    """Build the triangulation; returns the number of triangles, or -1 if the sweep failed."""
+def _seed(
+    points, triangles, halfedges, order, hull_next, hull_prev, hull_tri, hull_hash, state, centre
+):
+    """Start the sweep: the seed triangle, the points' order, the hull; 0, or -1 if it failed.
+
+    Everything the insertions need next is left in the caller's arrays:
+    ``state`` = (triangles so far, hull start), ``centre`` = the seed
+    triangle's circumcentre, ``order`` the points by distance from it.
+    """
     n = points.shape[0]
     lo_x, lo_y = points[:, 0].min(), points[:, 1].min()
     hi_x, hi_y = points[:, 0].max(), points[:, 1].max()
@@ -226,15 +241,13 @@ def _sweep(points, triangles, halfedges):
         distance[i] = (points[i, 0] - cx) ** 2 + (points[i, 1] - cy) ** 2
         if distance[i] == 0.0:
             return -1  # a point on the seed's circumcentre (rounding): qhull decides
-    order = np.argsort(distance)
+    order[:] = np.argsort(distance)
 
-    hull_next = np.full(n, -1, dtype=np.int64)
-    hull_prev = np.full(n, -1, dtype=np.int64)
-    hull_tri = np.full(n, -1, dtype=np.int64)
-    size = max(int(np.ceil(np.sqrt(n))), 1)
-    hull_hash = np.full(size, -1, dtype=np.int64)
-    stack = np.empty(4096, dtype=np.int64)
-
+    size = hull_hash.shape[0]
+    hull_next[:] = -1
+    hull_prev[:] = -1
+    hull_tri[:] = -1
+    hull_hash[:] = -1
     hull_next[i0], hull_next[i1], hull_next[i2] = i1, i2, i0
     hull_prev[i1], hull_prev[i2], hull_prev[i0] = i0, i1, i2
     halfedges[:] = -1
@@ -243,11 +256,38 @@ def _sweep(points, triangles, halfedges):
     for v in (i0, i1, i2):
         key = int(_pseudo_angle(points[v, 0] - cx, points[v, 1] - cy) * size) % size
         hull_hash[key] = v
-    count = 1
-    hull_start = i0
+    state[0] = 1  # triangles
+    state[1] = i0  # hull start
+    state[2], state[3], state[4] = i0, i1, i2
+    centre[0], centre[1] = cx, cy
+    return 0
+
+
+@njit(cache=True)
+def _insert(
+    points,
+    triangles,
+    halfedges,
+    order,
+    first,
+    stop,
+    hull_next,
+    hull_prev,
+    hull_tri,
+    hull_hash,
+    stack,
+    state,
+    centre,
+):
+    """Add the points ``order[first:stop]`` (see ``_seed``); the triangles so far, or -1."""
+    cx, cy = centre[0], centre[1]
+    i0, i1, i2 = state[2], state[3], state[4]
+    count = state[0]
+    hull_start = state[1]
+    size = hull_hash.shape[0]
     capacity = triangles.shape[0] // 3
 
-    for position in range(n):
+    for position in range(first, stop):
         p = order[position]
         if p == i0 or p == i1 or p == i2:
             continue
@@ -312,16 +352,50 @@ def _sweep(points, triangles, halfedges):
         hull_hash[key] = p
         key_e = int(_pseudo_angle(points[e, 0] - cx, points[e, 1] - cy) * size) % size
         hull_hash[key_e] = e
+        state[0] = count
+        state[1] = hull_start
+    return count
+
+
+def _sweep(points, triangles, halfedges, per_call=None):
+    """Build the triangulation; the number of triangles, or -1 if the sweep failed.
+
+    Points are added `per_call` at a time (``INSERTIONS_PER_CALL``): the
+    sweep's whole state lives in arrays, so each compiled call resumes where
+    the last one stopped, and the triangles are the same for any `per_call`.
+    """
+    per_call = INSERTIONS_PER_CALL if per_call is None else max(1, int(per_call))
+    n = points.shape[0]
+    order = np.empty(n, dtype=np.int64)
+    hull_next = np.empty(n, dtype=np.int64)
+    hull_prev = np.empty(n, dtype=np.int64)
+    hull_tri = np.empty(n, dtype=np.int64)
+    hull_hash = np.empty(max(int(np.ceil(np.sqrt(n))), 1), dtype=np.int64)
+    stack = np.empty(4096, dtype=np.int64)
+    state = np.zeros(5, dtype=np.int64)
+    centre = np.zeros(2)
+    hull = (hull_next, hull_prev, hull_tri, hull_hash)
+    if _seed(points, triangles, halfedges, order, *hull, state, centre) < 0:
+        return -1
+    count = int(state[0])
+    for first in range(0, n, per_call):
+        stop = min(n, first + per_call)
+        count = _insert(
+            points, triangles, halfedges, order, first, stop, *hull, stack, state, centre
+        )
+        if count < 0:
+            return -1
     return count
 
 
 @njit(cache=True)
-def _certified(points, triangles, halfedges, count):
-    """Whether the triangles are surely the unique Delaunay triangulation of all the points."""
-    n = points.shape[0]
-    used = np.zeros(n, dtype=np.bool_)
+def _certify_edges(points, triangles, halfedges, first, stop, used):
+    """Halfedges ``first:stop`` consistent and surely locally Delaunay: their hull edges, or -1.
+
+    Marks the points they start from in ``used``.
+    """
     hull_edges = 0
-    for e in range(3 * count):
+    for e in range(first, stop):
         used[triangles[e]] = True
         b = halfedges[e]
         if b < 0:
@@ -332,7 +406,7 @@ def _certified(points, triangles, halfedges, count):
             or triangles[b] != triangles[_nxt(e)]
             or triangles[_nxt(b)] != (triangles[e])
         ):
-            return False
+            return -1
         if (
             e < b
             and _incircle(
@@ -345,17 +419,29 @@ def _certified(points, triangles, halfedges, count):
             )
             >= 0
         ):
-            return False
-    for t in range(count):
+            return -1
+    return hull_edges
+
+
+@njit(cache=True)
+def _certify_triangles(points, triangles, first, stop):
+    """Whether the triangles ``first:stop`` are surely counter-clockwise."""
+    for t in range(first, stop):
         a, b, c = triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2]
         if _orient_certain(points, a, b, c) <= 0:
             return False
+    return True
+
+
+@njit(cache=True)
+def _certify_hull(points, triangles, halfedges, count, used, hull_edges):
+    """Every point used, Euler's count, and the hull one loop turning surely left."""
+    n = points.shape[0]
     for i in range(n):
         if not used[i]:
             return False
     if count != 2 * n - 2 - hull_edges:
         return False
-    # the hull: one loop, every turn surely to the left
     after = np.full(n, -1, dtype=np.int64)
     first = -1
     for e in range(3 * count):
@@ -378,10 +464,34 @@ def _certified(points, triangles, halfedges, count):
     return steps == hull_edges
 
 
+def _certified(points, triangles, halfedges, count, per_call=None):
+    """Whether the triangles are surely the unique Delaunay triangulation of all the points.
+
+    Checked in compiled calls of `per_call` (``CHECKS_PER_CALL``) halfedges or
+    triangles each, so that Python reacts to a signal between them.
+    """
+    per_call = CHECKS_PER_CALL if per_call is None else max(1, int(per_call))
+    used = np.zeros(points.shape[0], dtype=np.bool_)
+    hull_edges = 0
+    for first in range(0, 3 * count, per_call):
+        stop = min(3 * count, first + per_call)
+        found = _certify_edges(points, triangles, halfedges, first, stop, used)
+        if found < 0:
+            return False
+        hull_edges += found
+    for first in range(0, count, per_call):
+        if not _certify_triangles(points, triangles, first, min(count, first + per_call)):
+            return False
+    return bool(_certify_hull(points, triangles, halfedges, count, used, hull_edges))
+
+
 def delaunay(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The Delaunay triangulation of distinct 2D points: ``(simplices, neighbors)``.
 
-    Compiled and certified (see the module), else qhull's.
+    Compiled and certified (see the module), else qhull's.  The compiled
+    steps run in calls of a few tenths of a second at most, so a Ctrl-C or
+    SIGTERM is raised between them (qhull, the fallback, is one C call and
+    reacts only when it returns).
 
     Raises
     ------

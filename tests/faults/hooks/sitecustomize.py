@@ -14,6 +14,7 @@ _KILL_ON = os.environ.get("DENTOPO_TEST_KILL_WORKER_ON")
 _PHASES = os.environ.get("DENTOPO_TEST_PHASES")
 _SLOW_WRITE = os.environ.get("DENTOPO_TEST_SLOW_WRITE")
 _KERNEL = os.environ.get("DENTOPO_TEST_KERNEL")
+_DELAUNAY = os.environ.get("DENTOPO_TEST_DELAUNAY")
 
 if _KILL_ON:
     import multiprocessing
@@ -67,3 +68,17 @@ if _KERNEL:
         return _real_euclidean_moments(points, bandwidth, cutoff)
 
     _kernel.euclidean_moments = euclidean_moments
+
+if _DELAUNAY:
+    import dentopo.topography._alphahull as _alphahull
+
+    _real_delaunay = _alphahull.delaunay
+
+    def delaunay(points):
+        """Say that RFI's Delaunay triangulation starts and ends, then run it."""
+        print(f"dentopo-test: delaunay {len(points)} points", file=sys.stderr, flush=True)
+        out = _real_delaunay(points)
+        print("dentopo-test: delaunay done", file=sys.stderr, flush=True)
+        return out
+
+    _alphahull.delaunay = delaunay
