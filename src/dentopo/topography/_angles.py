@@ -35,7 +35,7 @@ import trimesh
 from ..mesh import as_arrays
 from . import _kernels
 from ._orientation import TURN, Orientation, check_orient, find_orientation
-from ._surface import Surface, molar_face_areas
+from ._surface import Surface, drop_unused, molar_face_areas
 
 #: Scalar fields of doolkit's slope and inclination, in the order of output tables.
 DOOLKIT_SLOPE_FIELDS = ("slope_mean",)
@@ -94,15 +94,6 @@ def _drop_duplicate_faces(faces: np.ndarray, n: int) -> np.ndarray:
     return faces[np.sort(first)]
 
 
-def _drop_unused(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    used = np.flatnonzero(np.bincount(faces.ravel(), minlength=len(vertices)))
-    if len(used) == len(vertices):
-        return vertices, faces
-    remap = np.full(len(vertices), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    return vertices[used], remap[faces]
-
-
 def read_as_doolkit(mesh) -> tuple[np.ndarray, np.ndarray]:
     """``(vertices, faces)`` as ``vcgImport(clean = TRUE)`` leaves them (see the module).
 
@@ -121,7 +112,7 @@ def read_as_doolkit(mesh) -> tuple[np.ndarray, np.ndarray]:
     faces = _drop_duplicate_faces(faces, len(vertices))
     if len(faces) == 0:
         raise ValueError("the mesh has no face with three distinct vertices")
-    return _drop_unused(vertices, faces)
+    return drop_unused(vertices, faces)
 
 
 class DoolkitMesh:

@@ -19,9 +19,10 @@ import trimesh
 
 from . import _kernels
 from ._orientation import Orientation, check_orient
+from ._parameters import BOUNDARY_RULES, check_choice
 from ._surface import Surface, molar_scale, prepare_surface
 
-BOUNDARY_MODES = ("vertex", "leg", "none")
+BOUNDARY_MODES = BOUNDARY_RULES
 OUTLIER_MODES = ("combined", "separate")
 
 #: Faces whose first-fundamental-form matrix has a 1-norm reciprocal condition
@@ -125,12 +126,6 @@ class ClassicDNEResult:
     def to_dict(self) -> dict:
         """The scalar fields as a plain dict (one row of a results table)."""
         return {name: getattr(self, name) for name in CLASSIC_FIELDS}
-
-
-def _check_choice(name: str, value, choices: tuple[str, ...]) -> str:
-    if not isinstance(value, str) or value.lower() not in choices:
-        raise ValueError(f"{name} must be one of {choices} (any case); got {value!r}")
-    return value.lower()
 
 
 def _check_real(name: str, value, *, low: float, high: float) -> float:
@@ -336,8 +331,8 @@ def classic_dne(
     """
     outliers = _check_real("outliers", outliers, low=0.0, high=100.0)
     kappa = _check_real("kappa", kappa, low=-np.inf, high=np.inf)
-    boundary = _check_choice("boundary", boundary, BOUNDARY_MODES)
-    outlier_mode = _check_choice("outlier_mode", outlier_mode, OUTLIER_MODES)
+    boundary = check_choice("boundary", boundary, BOUNDARY_MODES)
+    outlier_mode = check_choice("outlier_mode", outlier_mode, OUTLIER_MODES)
     orient = check_orient(orient)
 
     # a Surface given: its cleaned form; rewound if asked, never turned

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from .._jit import njit
-from ..mesh._faces import corner_cross, normalise_rows
+from ..mesh._faces import _sorted3, corner_cross, normalise_rows
 
 
 @njit(cache=True)
@@ -364,13 +364,7 @@ def packed_triples(faces, n, out):  # pragma: no cover
     and small enough (below 2**21) that the key fits in an int64.
     """
     for f in range(faces.shape[0]):
-        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-        if a > b:
-            a, b = b, a
-        if b > c:
-            b, c = c, b
-        if a > b:
-            a, b = b, a
+        a, b, c = _sorted3(faces[f, 0], faces[f, 1], faces[f, 2])
         out[f] = (a * n + b) * n + c
 
 
@@ -399,14 +393,6 @@ def agreeing_winding(faces, group_start, group_edge, groups):  # pragma: no cove
 
 
 @njit(cache=True)
-def _root(parent, v):  # pragma: no cover
-    while parent[v] != v:
-        parent[v] = parent[parent[v]]
-        v = parent[v]
-    return v
-
-
-@njit(cache=True)
 def closed_volume(points, faces, cross, boundary):  # pragma: no cover
     """Six times the signed volume of the faces closed by a fan over each boundary loop.
 
@@ -427,7 +413,7 @@ def closed_volume(points, faces, cross, boundary):  # pragma: no cover
     n = points.shape[0]
     parent = np.arange(n)
     for e in range(k):
-        a, b = _root(parent, boundary[e, 0]), _root(parent, boundary[e, 1])
+        a, b = _find(parent, boundary[e, 0]), _find(parent, boundary[e, 1])
         if a != b:
             parent[a] = b
     seen = np.zeros(n, dtype=np.bool_)
@@ -438,13 +424,13 @@ def closed_volume(points, faces, cross, boundary):  # pragma: no cover
             v = boundary[e, j]
             if not seen[v]:
                 seen[v] = True
-                r = _root(parent, v)
+                r = _find(parent, v)
                 count[r] += 1
                 for d in range(3):
                     centre[r, d] += points[v, d]
     for e in range(k):
         a, b = boundary[e, 0], boundary[e, 1]
-        r = _root(parent, a)
+        r = _find(parent, a)
         cx = centre[r, 0] / count[r]
         cy = centre[r, 1] / count[r]
         cz = centre[r, 2] / count[r]

@@ -23,7 +23,7 @@ from . import _kernels
 from ._metrics import rotation_key
 from ._metrics import rotations as opcr_rotations
 from ._orientation import Orientation, check_orient
-from ._parameters import check_finite, check_int
+from ._parameters import check_finite, check_int, check_min_area
 from ._surface import Surface, prepare_surface
 
 #: Number of aspect bins.
@@ -166,16 +166,6 @@ class OPCRResult:
 
 
 # --- parameters ---------------------------------------------------------------------------
-
-
-def _check_min_area(value) -> float:
-    value = check_finite("min_area", value)
-    if not 0.0 <= value < 1.0:
-        raise ValueError(
-            "min_area is a fraction of the total surface area and must lie in [0, 1); "
-            f"got {value!r}"
-        )
-    return value
 
 
 # --- the computation ----------------------------------------------------------------------
@@ -362,7 +352,7 @@ def opc(
     """
     rotation = check_finite("rotation", rotation)
     min_faces = check_int("min_faces", min_faces, low=0)
-    min_area = _check_min_area(min_area)
+    min_area = check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
     incidence = _Incidence(surface)
@@ -440,7 +430,7 @@ def opcr(
     steps = check_int("steps", steps, low=1)
     step = check_finite("step", step)
     min_faces = check_int("min_faces", min_faces, low=0)
-    min_area = _check_min_area(min_area)
+    min_area = check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
     incidence = _Incidence(surface)

@@ -54,7 +54,7 @@ BOUNDARY_RULES = ("vertex", "leg", "none")
 def check_choice(name: str, value, choices: tuple[str, ...]) -> str:
     """`value` lower-cased if it is one of `choices` (any case)."""
     if not isinstance(value, str) or value.lower() not in choices:
-        raise ValueError(f"{name} must be one of {', '.join(choices)} (any case); got {value!r}")
+        raise ValueError(f"{name} must be one of {choices} (any case); got {value!r}")
     return value.lower()
 
 

@@ -27,6 +27,7 @@ import trimesh
 from ..mesh import as_arrays
 from . import _kernels
 from ._orientation import TURN, Orientation, check_orient, survey
+from ._parameters import check_choice
 
 #: molaR rescales a mesh so that its size measure is this.
 SIZE_TARGET = 100.0
@@ -296,9 +297,7 @@ def drop_unused(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np
 
 def check_duplicates(duplicates) -> str:
     """Validate ``duplicates`` (``"drop"`` or ``"keep"``, any case)."""
-    if not isinstance(duplicates, str) or duplicates.lower() not in DUPLICATE_MODES:
-        raise ValueError(f"duplicates must be one of {DUPLICATE_MODES}; got {duplicates!r}")
-    return duplicates.lower()
+    return check_choice("duplicates", duplicates, DUPLICATE_MODES)
 
 
 def repeated_faces(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

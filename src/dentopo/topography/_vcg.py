@@ -66,12 +66,13 @@ import math
 import numpy as np
 
 from .._jit import njit
+from ._parameters import BOUNDARY_RULES
 
 #: float32's machine epsilon: vertices with a mixed area at or below it get curvature 0.
 EPS32 = float(np.finfo(np.float32).eps)
 
 #: Faces zeroed at the mesh border, by rule: molaR's ``BoundaryDiscard`` (lower case).
-BORDER_RULES = ("vertex", "leg", "none")
+BORDER_RULES = BOUNDARY_RULES
 
 
 def to_float32(vertices: np.ndarray) -> np.ndarray:
