@@ -57,9 +57,39 @@ def test_a_closed_crown_points_to_the_side_its_area_faces():
 def test_a_sphere_is_undetermined_and_never_turned():
     sphere = trimesh.creation.icosphere(subdivisions=3)
     found = find_orientation(sphere.vertices, sphere.faces)
-    assert found.points == "undetermined" and found.warning() is None
+    assert found.points == "undetermined" and "the surface is closed" in found.warning()
+    assert str(found) == "undetermined; closed, as it lies"
     vertices, done = orient_vertices(sphere.vertices, sphere.faces, "auto")
     assert not done.turned and np.array_equal(vertices, sphere.vertices)
+
+
+def test_a_closed_crown_pointing_down_is_warned_about_and_not_turned():
+    # issue 21: a closed surface has no open base; the area rule is a hint, never a turn
+    sphere = trimesh.creation.icosphere(subdivisions=3)
+    upper = sphere.faces[sphere.vertices[sphere.faces].mean(axis=1)[:, 2] > 0]
+    closed = capped(trimesh.Trimesh(sphere.vertices, upper))
+    down = (closed.vertices @ TURN.T, closed.faces)
+    with pytest.warns(UserWarning, match="the surface is closed.*most of its area faces -z"):
+        auto = slope(down)
+    assert not auto.orientation.turned and str(auto.orientation) == "-z; closed, as it lies"
+    with pytest.warns(UserWarning, match="the surface is closed"):
+        as_is = slope(down, orient="as-is")
+    assert np.array_equal(auto.face_slope, as_is.face_slope)  # measured as it lies
+    # classic DNE does not assume +z: no word about it there
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        classic_dne(down)
+
+
+def test_auto_is_the_default_and_as_is_is_molars_way():
+    up = dome()
+    down = trimesh.Trimesh(up.vertices @ TURN.T, up.faces, process=False)
+    assert str(slope(down).orientation) == "-z, turned to +z"
+    assert slope(down).slope == slope(down, orient="auto").slope
+    with pytest.warns(UserWarning, match="points to -z"):
+        assert slope(down, orient="as-is").slope > 90
 
 
 def test_auto_turns_a_crown_pointing_down_and_equals_turning_it_by_hand():
@@ -67,7 +97,7 @@ def test_auto_turns_a_crown_pointing_down_and_equals_turning_it_by_hand():
     down = trimesh.Trimesh(up.vertices @ TURN.T, up.faces, process=False)
     before = down.vertices.copy()
     with pytest.warns(UserWarning, match="points to -z"):
-        as_is = slope(down)
+        as_is = slope(down, orient="as-is")
     assert str(as_is.orientation) == "-z"
     turned = slope(down, orient="auto")
     assert str(turned.orientation) == "-z, turned to +z"
@@ -126,7 +156,7 @@ def test_faces_wound_inward_are_warned_about_and_rewound_with_auto():
     inward = trimesh.Trimesh(up.vertices, up.faces[:, ::-1], process=False)
     found = find_orientation(inward.vertices, inward.faces)
     assert (found.points, found.winding) == ("+z", "inward")
-    as_is, caught = _caught(slope, inward)
+    as_is, caught = _caught(slope, inward, orient="as-is")
     assert any("every face is wound inward" in m and "orient='auto'" in m for m in caught)
     assert str(as_is.orientation) == "+z; wound inward"
     fixed, caught = _caught(slope, inward, orient="auto")
@@ -137,11 +167,11 @@ def test_faces_wound_inward_are_warned_about_and_rewound_with_auto():
     assert _caught(opc, inward, orient="auto")[0].bin_counts == opc(up).bin_counts
     # classic DNE: its convex and concave parts swap as wound, and come back when rewound
     right = classic_dne(up)
-    swapped, caught = _caught(classic_dne, inward)
+    swapped, caught = _caught(classic_dne, inward, orient="as-is")
     assert any("wound inward" in m for m in caught)
     # (the energy does not depend on the winding; with no outliers dropped, no face
     # can cross the outlier quantile by a rounding error)
-    unsigned = _caught(classic_dne, inward, outliers=0.0)[0].dne
+    unsigned = _caught(classic_dne, inward, outliers=0.0, orient="as-is")[0].dne
     assert unsigned == pytest.approx(classic_dne(up, outliers=0.0).dne, rel=1e-9)
     assert swapped.convex_area == pytest.approx(right.concave_area, rel=1e-9)
     rewound = _caught(classic_dne, inward, orient="auto")[0]
@@ -186,13 +216,13 @@ def test_a_closed_sphere_wound_inward_is_found_and_rewound():
     found = find_orientation(sphere.vertices, sphere.faces[:, ::-1])
     assert (found.points, found.winding) == ("undetermined", "inward")
     inward = (sphere.vertices, sphere.faces[:, ::-1])
-    swapped, caught = _caught(classic_dne, inward)
+    swapped, caught = _caught(classic_dne, inward, orient="as-is")
     assert swapped.convex_dne == 0.0 and any("wound inward" in m for m in caught)
     rewound = _caught(classic_dne, inward, orient="auto")[0]
     assert (rewound.convex_dne, rewound.concave_dne) == (outward.convex_dne, 0.0)
     turned = _caught(slope, inward, orient="auto")[0]
     assert not turned.orientation.turned and turned.orientation.rewound
-    assert turned.slope == slope(sphere).slope
+    assert turned.slope == _caught(slope, sphere)[0].slope
 
 
 @pytest.mark.parametrize("pose", range(6))

@@ -19,7 +19,8 @@ pytestmark = [
 
 @pytest.mark.parametrize("name", ROBUSTNESS_SET)
 def test_matches_molar(name, molar_topography):
-    result = slope(shared_mesh(name))
+    # molaR measures the crown as it lies (the paper's crowns point to -z): --orient as-is
+    result = slope(shared_mesh(name), orient="as-is")
     assert result.slope == pytest.approx(float(molar_topography[name]["slope"]), rel=1e-9)
 
 
@@ -60,12 +61,14 @@ def test_whole_degrees_round_half_to_even():
 def test_area_weighted_mean_of_whole_degrees():
     # a unit box: 4 vertical sides (90), a top (0) and a bottom (180), all of equal area
     box = trimesh.creation.box()
-    assert slope(box).slope == 90.0
+    with pytest.warns(UserWarning, match="the surface is closed"):  # no base: as it lies
+        assert slope(box).slope == 90.0
     # stretch the box in z: the sides weigh more, the mean stays 90 by symmetry
-    assert slope(trimesh.creation.box(extents=(1, 1, 5))).slope == 90.0
+    with pytest.warns(UserWarning, match="the surface is closed"):
+        assert slope(trimesh.creation.box(extents=(1, 1, 5))).slope == 90.0
     # a flat face of area 2 and a vertical face of area 0.5: (0 * 2 + 90 * 0.5) / 2.5
     vertices = [[0, 0, 0], [2, 0, 0], [0, 2, 0], [5, 0, 0], [6, 0, 0], [5, 0, 1]]
-    result = slope((vertices, [[0, 1, 2], [3, 4, 5]]))
+    result = slope((vertices, [[0, 1, 2], [3, 4, 5]]), orient="as-is")
     assert result.face_slope.tolist() == [0, 90]
     assert result.face_area.tolist() == [2.0, 0.5]
     assert result.slope == 18.0
@@ -96,7 +99,10 @@ def test_invariances(tooth):
 def test_orientation_matters(tooth):
     upside_down = tooth.copy()
     upside_down.apply_transform(trimesh.transformations.rotation_matrix(np.pi, [1, 0, 0]))
-    assert slope(upside_down).slope == pytest.approx(180.0 - slope(tooth).slope, abs=0.01)
+    as_is = slope(upside_down, orient="as-is").slope
+    assert as_is == pytest.approx(180.0 - slope(tooth, orient="as-is").slope, abs=0.01)
+    # by default the crown is turned back up (away from its open base)
+    assert slope(upside_down).slope == pytest.approx(slope(tooth).slope, abs=1e-9)
 
 
 def test_result_shape(tooth):

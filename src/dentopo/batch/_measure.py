@@ -107,7 +107,7 @@ class TopographyOptions:
     dne_kappa: float = 0.0
     arc_boundary: str = "vertex"
     arc_range: tuple[float, float] = (0.01, 0.99)
-    orient: str = "as-is"
+    orient: str = "auto"
     duplicates: str = "drop"
 
     def __post_init__(self):
@@ -285,8 +285,8 @@ _TOPOGRAPHY = {
     "shape_index": lambda surface, options: shape_index(surface),
     # doolkit's area2d (concave) and its convex counterpart
     "footprint": lambda surface, options: (
-        footprint_area(surface, hull="concave"),
-        footprint_area(surface, hull="convex"),
+        footprint_area(surface, hull="concave", orient=options.orient),
+        footprint_area(surface, hull="convex", orient=options.orient),
     ),
     "hypsodonty": lambda surface, options: hypsodonty(surface),
 }

@@ -529,7 +529,7 @@ def make_settings(
     dne_kappa: float = 0.0,
     arc_boundary: str = "vertex",
     arc_range: tuple[float, float] = (0.01, 0.99),
-    orient: str = "as-is",
+    orient: str = "auto",
     duplicates: str = "drop",
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
@@ -601,7 +601,7 @@ def compute_batch(
     dne_kappa: float = 0.0,
     arc_boundary: str = "vertex",
     arc_range: tuple[float, float] = (0.01, 0.99),
-    orient: str = "as-is",
+    orient: str = "auto",
     duplicates: str = "drop",
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
@@ -651,11 +651,13 @@ def compute_batch(
         (:func:`dentopo.topography.classic_dne`).
     arc_boundary, arc_range : str, (float, float)
         ARC's ``boundary`` and ``range`` (:func:`dentopo.topography.arc`).
-    orient : {"as-is", "auto"}, default "as-is"
-        ``"auto"`` turns a crown that points to -z before slope, OPC, OPCR and
-        RFI (see :func:`dentopo.find_orientation`) and rewinds faces wound
-        inward before those and classic DNE; ``"as-is"`` measures it as it
-        is, as molaR does, and warns.
+    orient : {"auto", "as-is"}, default "auto"
+        ``"auto"`` turns a crown that points to -z (away from its open base)
+        before slope, OPC, OPCR, RFI and doolkit's oriented metrics (see
+        :func:`dentopo.find_orientation`) and rewinds faces wound inward
+        before those and classic DNE; a closed or flat surface is measured
+        as it lies, with a warning.  ``"as-is"`` measures it as it is, as
+        molaR and doolkit do (their numbers), and warns.
     duplicates : {"drop", "keep"}, default "drop"
         Faces listed more than once: measured once (``"drop"``, as ariaDNE's
         cleaning and the ``faces`` column count them) or as listed by molaR's

@@ -21,6 +21,7 @@ import importlib
 import os
 import signal
 import sys
+from dataclasses import replace
 
 from .._optional import PICTURES, MissingExtraError
 from .._version import __version__
@@ -59,6 +60,7 @@ from ..formats import (
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
 from ..topography import BOUNDARY_RULES, DUPLICATE_MODES, GROUPS, METRICS, ORIENT_MODES
+from ._hints import CommandLineHints
 from ._output import Planned, TableOutput, output_problem
 from ._progress import PROG, Progress
 from ._progress import say as _say
@@ -265,10 +267,12 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         "--orient",
         type=str.lower,
         choices=ORIENT_MODES,
-        default="as-is",
-        help="as-is (default, molaR's: measure the crown as it lies, warn if it points to -z "
-        "or its faces are wound inward) or auto (turn a crown pointing to -z before slope, "
-        "OPC, OPCR and RFI; rewind faces wound inward before those and classic DNE)",
+        default="auto",
+        help="auto (default: turn a crown pointing to -z, away from its open base, before "
+        "slope, OPC, OPCR, RFI and doolkit's oriented metrics, and rewind faces wound inward "
+        "before those and classic DNE; a closed or flat surface is measured as it lies, with "
+        "a warning) or as-is (molaR's and doolkit's way, to reproduce their numbers: measure "
+        "the crown as it lies, and warn if it points to -z or its faces are wound inward)",
     )
     topo.add_argument(
         "--duplicates",
@@ -704,8 +708,9 @@ def _metric_parameters(metric: str, args) -> dict:
 
 def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     """Run the main command with `argv`; the exit code."""
+    parser = build_parser(subcommands)
     try:
-        args = build_parser(subcommands).parse_args(argv)
+        args = parser.parse_args(argv)
     except SystemExit as stop:  # --help, --version, or a usage error (2)
         return stop.code if isinstance(stop.code, int) else 0
 
@@ -890,6 +895,15 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
         more = f" (and the files of {len(replaced) - 1} more meshes)" if len(replaced) > 1 else ""
         _say(f"warning: {replaced_message(*replaced[0])}{more}")
 
+    hints = CommandLineHints(build_parser())
+
+    def in_command_words(outcome: Outcome) -> Outcome:
+        return replace(
+            outcome,
+            record=hints.record(outcome.record),
+            warnings=tuple(hints(message) for message in outcome.warnings),
+        )
+
     progress = Progress(len(tasks), quiet=args.quiet)
     outcomes: dict[int, Outcome] = {}
     interrupted: BaseException | None = None
@@ -897,6 +911,7 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
     running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
     try:
         for outcome in running:
+            outcome = in_command_words(outcome)  # hints name options, not keyword arguments
             outcomes[outcome.index] = outcome
             try:
                 with guard.held():  # a row is appended whole

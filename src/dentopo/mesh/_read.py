@@ -154,9 +154,8 @@ def _choose(path: str, instances: list[_Instance], geometry: str | None) -> trim
         example = _selectors(instances)[0]
         raise ValueError(
             f"{path!r} holds {len(instances)} meshes: {_listing(instances)}; dentopo does "
-            f"not choose one for you: read one with load_mesh(path, geometry={example!r}) "
-            f"(command line: --geometry {example}), or join them all into one surface with "
-            "geometry='all' (--geometry all)"
+            f"not choose one for you: read one with load_mesh(path, geometry={example!r}), "
+            "or join them all into one surface with geometry='all'"
         )
     chosen = [i for i in instances if i.name == geometry]
     if len(chosen) > 1:

@@ -26,7 +26,7 @@ This module also prepares the mesh as doolkit's reader leaves it
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -243,8 +243,8 @@ def doolkit_mesh(mesh, orient: str | None = None) -> DoolkitMesh:
     if orient is None:
         return DoolkitMesh(vertices, faces)
     found = find_orientation(vertices, faces, molar_face_areas(vertices, faces))
-    if orient == "auto" and found.points == "-z":
-        return DoolkitMesh(vertices @ TURN.T, faces, Orientation(found.points, found.rule, True))
+    if found.turns(orient):
+        return DoolkitMesh(vertices @ TURN.T, faces, replace(found, turned=True))
     return DoolkitMesh(vertices, faces, found)
 
 
@@ -426,7 +426,7 @@ def doolkit_slope(mesh) -> DoolkitSlopeResult:
     )
 
 
-def inclination(mesh, *, orient: str = "as-is") -> InclinationResult:
+def inclination(mesh, *, orient: str = "auto") -> InclinationResult:
     """Mean face inclination, as doolkit 1.42.2's ``inclin`` computes it.
 
     Mesh and normals as in :func:`doolkit_slope`.  Each face's inclination is
@@ -439,9 +439,9 @@ def inclination(mesh, *, orient: str = "as-is") -> InclinationResult:
     ----------
     mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
         Never modified.
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         ``"as-is"`` measures the mesh as it lies (doolkit's behaviour) and
-        warns if the crown points to -z; ``"auto"`` turns such a crown first
+        warns if the crown points to -z; ``"auto"`` (the default) turns such a crown first
         (see :func:`dentopo.topography.find_orientation`).
 
     Returns
@@ -456,7 +456,8 @@ def inclination(mesh, *, orient: str = "as-is") -> InclinationResult:
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        When the crown is measured pointing to -z (``orient="as-is"``), or
+        when it is flat or closed (never turned).
 
     Examples
     --------

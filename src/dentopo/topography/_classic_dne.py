@@ -217,7 +217,7 @@ def classic_dne(
     kappa: float = 0.0,
     boundary: str = "vertex",
     outlier_mode: str = "combined",
-    orient: str = "as-is",
+    orient: str = "auto",
 ) -> ClassicDNEResult:
     """Classic DNE (Bunn et al. 2011) with molaR 6.0's convex/concave split.
 
@@ -283,11 +283,11 @@ def classic_dne(
         Which faces at the mesh boundary are excluded (molaR's ``BoundaryDiscard``).
     outlier_mode : {"combined", "separate"}, default "combined"
         One outlier quantile for all faces, or one per class (molaR's ``oex``).
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         The convex/concave split assumes the faces are wound outward (with
         every face wound inward, the convex and concave parts swap; ``dne``
         does not change).  ``"as-is"`` measures the faces as wound (molaR's
-        behaviour) and warns if they are wound inward; ``"auto"`` rewinds
+        behaviour) and warns if they are wound inward; ``"auto"`` (the default) rewinds
         such faces first (see :func:`dentopo.topography.find_orientation`).
         The result's ``orientation`` says what was found and done.
 

@@ -320,7 +320,7 @@ def _convex_ring(p: np.ndarray) -> np.ndarray:
     return ring[keep]
 
 
-def footprint_area(mesh, *, hull: str = "concave", orient: str = "as-is") -> FootprintResult:
+def footprint_area(mesh, *, hull: str = "concave", orient: str = "auto") -> FootprintResult:
     """Footprint area as doolkit 1.42.2's ``area2d`` computes it.
 
     1. **Points.** The x-y positions of the cleaned mesh's vertices (molaR's
@@ -352,9 +352,9 @@ def footprint_area(mesh, *, hull: str = "concave", orient: str = "as-is") -> Foo
         (:func:`dentopo.topography.prepare_surface`).  Never modified.
     hull : {"concave", "convex"}, default "concave"
         Which outline (doolkit's ``method``).
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         ``"as-is"`` (doolkit's behaviour) projects the mesh as it lies, without
-        looking at its orientation; ``"auto"`` first turns a crown pointing to
+        looking at its orientation; ``"auto"`` (the default) first turns a crown pointing to
         -z (see :func:`dentopo.topography.find_orientation`).
 
     Returns

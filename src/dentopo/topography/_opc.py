@@ -267,7 +267,7 @@ def opc(
     min_faces: int = 3,
     min_area: float = 0.0,
     *,
-    orient: str = "as-is",
+    orient: str = "auto",
 ) -> OPCResult:
     """Orientation patch count, as molaR 6.0's ``OPC`` computes it.
 
@@ -307,14 +307,15 @@ def opc(
     min_area : float, default 0.0
         When positive, count the patches with area greater than this fraction
         of the total surface area instead (molaR's ``minimum_area``); in [0, 1).
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         The metric assumes the crown points to +z and its faces are wound
-        outward.  ``"as-is"`` measures the mesh as it lies (molaR's
-        behaviour) and warns if the crown points to -z, its faces are wound
-        inward or it is flat; ``"auto"`` rewinds faces wound inward and turns
-        a crown pointing to -z first (never a flat one: see
-        :func:`dentopo.topography.find_orientation`).  Either way the result's
-        ``orientation`` says what was found and done.
+        outward.  ``"auto"`` (the default) rewinds faces wound inward and
+        turns a crown pointing to -z (away from its open base) first; a flat
+        or closed surface is never turned, and is warned about.  ``"as-is"``
+        measures the mesh as it lies, as molaR does (use it to reproduce
+        molaR's numbers), and warns if the crown points to -z or its faces
+        are wound inward.  See :func:`dentopo.topography.find_orientation`;
+        either way the result's ``orientation`` says what was found and done.
 
     Returns
     -------
@@ -328,8 +329,8 @@ def opc(
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z; when its faces
-        are wound inward (rewound or not) or it is flat.
+        When the crown is measured pointing to -z (``orient="as-is"``); when
+        its faces are wound inward (rewound or not); when it is flat or closed.
 
     References
     ----------
@@ -366,7 +367,7 @@ def opcr(
     min_faces: int = 3,
     min_area: float = 0.0,
     *,
-    orient: str = "as-is",
+    orient: str = "auto",
 ) -> OPCRResult:
     """Rotated orientation patch count (OPCR), as molaR 6.0's ``OPCr`` computes it.
 
@@ -388,7 +389,7 @@ def opcr(
         Degrees between rotations (molaR's ``stepSize``).
     min_faces : int, default 3
     min_area : float, default 0.0
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         As for :func:`opc`.
 
     Returns
@@ -403,8 +404,8 @@ def opcr(
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z; when its faces
-        are wound inward (rewound or not) or it is flat.
+        When the crown is measured pointing to -z (``orient="as-is"``); when
+        its faces are wound inward (rewound or not); when it is flat or closed.
 
     References
     ----------

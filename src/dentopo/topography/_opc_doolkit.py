@@ -345,7 +345,7 @@ def doolkit_opc(
     bins: int = DOOLKIT_BINS,
     min_size: int = 3,
     rotation: float = 0.0,
-    orient: str = "as-is",
+    orient: str = "auto",
 ) -> DoolkitOPCResult:
     """Orientation patch count, as doolkit 1.42.2's ``opc`` computes it.
 
@@ -378,9 +378,9 @@ def doolkit_opc(
     rotation : float, default 0.0
         Degrees added to the bin edges (clockwise seen from +z), at most
         ``360 / bins`` (beyond it doolkit's bins overlap).
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         ``"as-is"`` measures the mesh as it lies (doolkit's behaviour) and
-        warns if the crown points to -z; ``"auto"`` turns such a crown first.
+        warns if the crown points to -z; ``"auto"`` (the default) turns such a crown first.
 
     Returns
     -------
@@ -394,7 +394,8 @@ def doolkit_opc(
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        When the crown is measured pointing to -z (``orient="as-is"``), or
+        when it is flat or closed (never turned).
 
     References
     ----------
@@ -419,7 +420,7 @@ def doolkit_opc(
 
 
 def doolkit_opcr(
-    mesh, *, bins: int = DOOLKIT_BINS, min_size: int = 3, orient: str = "as-is"
+    mesh, *, bins: int = DOOLKIT_BINS, min_size: int = 3, orient: str = "auto"
 ) -> DoolkitOPCRResult:
     """Rotated orientation patch count, as doolkit 1.42.2's ``opcr`` computes it.
 
@@ -447,7 +448,8 @@ def doolkit_opcr(
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        When the crown is measured pointing to -z (``orient="as-is"``), or
+        when it is flat or closed (never turned).
 
     Examples
     --------

@@ -32,12 +32,16 @@ The rules
   points away from its open base: it points to +z when the boundary edges'
   length-weighted mean height lies below the surface's area-weighted mean
   height, else to -z.  This does not depend on how the faces are wound.
-* **A closed surface** points to the side its area faces: with its faces
-  wound outward, the area of the faces whose normal has a positive z
-  component is compared with that of the faces whose normal has a negative
-  one (a crown's worn, cusped occlusal side has more area than its base).
-  When neither side has at least 60 % of the area (a whole tooth, a bone),
-  the direction is ``"undetermined"``: nothing is turned and nothing warned.
+* **A closed surface** (no boundary: a whole tooth, a bone, a crown closed
+  under its cervix) has no open base to say where up is.  The side its area
+  faces is reported: with its faces wound outward, the area of the faces
+  whose normal has a positive z component is compared with that of the
+  faces whose normal has a negative one; when neither side has at least
+  60 % of the area the direction is ``"undetermined"``.  Either way a closed
+  surface is never turned, even with ``orient="auto"`` (the area rule is a
+  hint, not a base), and the metrics that assume +z warn that they measure
+  it as it lies, its underside included.  Its faces are still rewound
+  outward when they enclose a negative volume: that rule is certain.
 
 Turning a crown that points to -z is the rotation by 180 degrees about the
 x axis, ``(x, y, z) -> (x, -y, -z)``: a proper rotation, so faces keep their
@@ -55,8 +59,12 @@ import numpy as np
 from ..mesh import boundary_edges, orient_consistently
 from . import _kernels
 
-#: ``orient``: ``"as-is"`` (molaR's behaviour: never turn, never rewind) or ``"auto"``.
-ORIENT_MODES = ("as-is", "auto")
+#: ``orient``: ``"auto"`` (the default: turn a crown pointing to -z, rewind faces wound
+#: inward) or ``"as-is"`` (molaR's and doolkit's behaviour: never turn, never rewind).
+ORIENT_MODES = ("auto", "as-is")
+
+#: The default ``orient`` of every metric that assumes the crown points to +z.
+DEFAULT_ORIENT = "auto"
 
 #: The rotation that turns a crown pointing to -z to +z (180 degrees about x).
 TURN = np.diag([1.0, -1.0, -1.0])
@@ -106,6 +114,15 @@ class Orientation:
     faces: int = 0
 
     @property
+    def closed(self) -> bool:
+        """Whether the surface has no open base (its direction, if any, is by area)."""
+        return self.rule == "area"
+
+    def turns(self, orient: str) -> bool:
+        """Whether `orient` turns this crown: ``"auto"``, pointing to -z, with an open base."""
+        return orient == "auto" and self.points == "-z" and self.rule == "open base"
+
+    @property
     def wrong_way(self) -> bool:
         """Whether the crown, as measured, points to -z (against molaR's convention)."""
         return self.points == "-z" and not self.turned
@@ -118,6 +135,8 @@ class Orientation:
     def __str__(self) -> str:
         """The ``orientation`` column: ``-z, turned to +z``, ``-z; wound inward, rewound``."""
         text = f"{self.points}, turned to +z" if self.turned else self.points
+        if self.closed:
+            text += "; closed, as it lies"
         if self.winding == "inward":
             text += "; wound inward"
         elif self.winding == "mixed":
@@ -129,11 +148,21 @@ class Orientation:
     def messages(self, *, winding_only: bool = False) -> tuple[str, ...]:
         """The warnings for what was found, one per problem (``winding_only``: classic DNE's)."""
         found = []
-        if self.wrong_way and not winding_only:
-            why = "its open base lies above it" if self.rule == "open base" else "its area faces -z"
+        if self.wrong_way and not winding_only and not self.closed:
             found.append(
-                f"the crown points to -z ({why}); slope, OPC and RFI assume it points to +z, "
-                "as molaR does: turn it with orient='auto' (command line: --orient auto)"
+                "the crown points to -z (its open base lies above it); slope, OPC and RFI "
+                "assume it points to +z, as molaR does: turn it with orient='auto'"
+            )
+        if self.closed and not winding_only:
+            side = (
+                "neither side of it faces up more than the other"
+                if self.points == "undetermined"
+                else f"most of its area faces {self.points}"
+            )
+            found.append(
+                f"the surface is closed (it has no open base to tell up from down; {side}): "
+                "it was not turned, and slope, OPC and RFI measure it as it lies, its underside "
+                "included; crop it to the crown above the cervix, or turn it by hand"
             )
         if self.rule == "flat" and not winding_only:
             found.append(
@@ -154,8 +183,7 @@ class Orientation:
             fix = (
                 "they were rewound outward before measuring (orient='auto')"
                 if self.rewound
-                else "measured as wound, as molaR does: rewind them with orient='auto' "
-                "(command line: --orient auto)"
+                else "measured as wound, as molaR does: rewind them with orient='auto'"
             )
             found.append(f"{which} {effect}; {fix}")
         return tuple(found)
@@ -282,6 +310,6 @@ def orient_vertices(
     """
     orient = check_orient(orient)
     found = find_orientation(vertices, faces, area)
-    if orient == "auto" and found.points == "-z":
+    if found.turns(orient):
         return vertices @ TURN.T, replace(found, turned=True)
     return vertices, found

@@ -254,7 +254,7 @@ class HypsodontyResult:
 # --- the metrics --------------------------------------------------------------------------
 
 
-def elevation(mesh, *, orient: str = "as-is") -> ElevationResult:
+def elevation(mesh, *, orient: str = "auto") -> ElevationResult:
     """Face elevations, as doolkit 1.42.2's ``elev(origin = TRUE)`` computes them.
 
     ``dkorigin`` subtracts the lowest vertex z from every vertex z (double
@@ -266,9 +266,9 @@ def elevation(mesh, *, orient: str = "as-is") -> ElevationResult:
     ----------
     mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
         Read as doolkit reads it (:func:`doolkit_slope`).  Never modified.
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         ``"as-is"`` measures the mesh as it lies (doolkit's behaviour) and
-        warns if the crown points to -z; ``"auto"`` turns such a crown first
+        warns if the crown points to -z; ``"auto"`` (the default) turns such a crown first
         (see :func:`dentopo.topography.find_orientation`).
 
     Returns
@@ -278,7 +278,8 @@ def elevation(mesh, *, orient: str = "as-is") -> ElevationResult:
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        When the crown is measured pointing to -z (``orient="as-is"``), or
+        when it is flat or closed (never turned).
 
     Examples
     --------
@@ -306,7 +307,7 @@ def _gamma(slope: np.ndarray, elev: np.ndarray) -> float:
     return gentle / steep if steep != 0 else math.nan
 
 
-def relief_index(mesh, *, hull: str = "concave", orient: str = "as-is") -> ReliefIndexResult:
+def relief_index(mesh, *, hull: str = "concave", orient: str = "auto") -> ReliefIndexResult:
     """Relief indices, as doolkit 1.42.2's ``rfi`` computes them (Ungar, Boyer and Guy).
 
     * ``area3d``: ``vcgArea``, each face's area in single precision, summed
@@ -328,9 +329,9 @@ def relief_index(mesh, *, hull: str = "concave", orient: str = "as-is") -> Relie
     hull : {"concave", "convex"}, default "concave"
         The footprint's outline (doolkit's code defaults to concave; its
         manual says convex).
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         ``"as-is"`` measures the mesh as it lies (doolkit's behaviour) and
-        warns if the crown points to -z; ``"auto"`` turns such a crown first
+        warns if the crown points to -z; ``"auto"`` (the default) turns such a crown first
         (see :func:`dentopo.topography.find_orientation`).
 
     Returns
@@ -345,7 +346,8 @@ def relief_index(mesh, *, hull: str = "concave", orient: str = "as-is") -> Relie
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        When the crown is measured pointing to -z (``orient="as-is"``), or
+        when it is flat or closed (never turned).
 
     References
     ----------
@@ -420,7 +422,7 @@ def _rate(uncropped: DoolkitMesh, cropped: DoolkitMesh, below_median: bool) -> R
     )
 
 
-def relief_rate(uncropped, cropped, *, orient: str = "as-is") -> ReliefRateResult:
+def relief_rate(uncropped, cropped, *, orient: str = "auto") -> ReliefRateResult:
     """Relief rate of a cropped crown, as doolkit 1.42.2's ``rrate(origin = TRUE)`` computes it.
 
     ``mean(e_c - min(e_c)) / mean(e_u - min(e_u))`` with ``e_u`` and ``e_c``
@@ -433,7 +435,7 @@ def relief_rate(uncropped, cropped, *, orient: str = "as-is") -> ReliefRateResul
     uncropped, cropped : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
         The whole crown and a part of it, each read as doolkit reads it.
         Never modified.
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         Found on the uncropped mesh; with ``"auto"`` a crown pointing to -z
         is turned to +z, and the cropped mesh with it (the same rotation).
         ``"as-is"`` warns if it points to -z.
@@ -445,7 +447,8 @@ def relief_rate(uncropped, cropped, *, orient: str = "as-is") -> ReliefRateResul
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the uncropped crown points to -z.
+        When the uncropped crown is measured pointing to -z
+        (``orient="as-is"``), or when it is flat or closed (never turned).
     """
     whole = doolkit_mesh(uncropped, check_orient(orient))
     whole.warn_orientation()
@@ -455,7 +458,7 @@ def relief_rate(uncropped, cropped, *, orient: str = "as-is") -> ReliefRateResul
     return _rate(whole, part, below_median=False)
 
 
-def relief_rate_below_median(mesh, *, orient: str = "as-is") -> ReliefRateResult:
+def relief_rate_below_median(mesh, *, orient: str = "auto") -> ReliefRateResult:
     """The relief rate of the faces below the median elevation (doolkit's ``rrate`` example).
 
     The table's ``rrate_below_median``: the cropped mesh is ``dkcrop(mesh,
@@ -468,9 +471,9 @@ def relief_rate_below_median(mesh, *, orient: str = "as-is") -> ReliefRateResult
     ----------
     mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
         Never modified.
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         ``"as-is"`` measures the mesh as it lies (doolkit's behaviour) and
-        warns if the crown points to -z; ``"auto"`` turns such a crown first
+        warns if the crown points to -z; ``"auto"`` (the default) turns such a crown first
         (see :func:`dentopo.topography.find_orientation`).
 
     Returns
@@ -480,7 +483,8 @@ def relief_rate_below_median(mesh, *, orient: str = "as-is") -> ReliefRateResult
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        When the crown is measured pointing to -z (``orient="as-is"``), or
+        when it is flat or closed (never turned).
 
     Examples
     --------

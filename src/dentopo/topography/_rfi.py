@@ -292,9 +292,7 @@ def _chained(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     return order
 
 
-def rfi(
-    mesh, *, alpha: float = 0.075, find_alpha: bool = False, orient: str = "as-is"
-) -> RFIResult:
+def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False, orient: str = "auto") -> RFIResult:
     """Relief index (Boyer 2008) as molaR 6.0's ``RFI`` computes it.
 
     molaR's conventions, all kept:
@@ -356,10 +354,10 @@ def rfi(
         `find_alpha`, where the walk starts.
     find_alpha : bool, default False
         Search for the alpha as molaR's ``findAlpha = TRUE`` does.
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         The metric assumes the crown points to +z.  ``"as-is"`` measures the
         mesh as it lies (molaR's behaviour) and warns if the crown points to
-        -z; ``"auto"`` turns such a crown first (see
+        -z; ``"auto"`` (the default) turns such a crown first (see
         :func:`dentopo.topography.find_orientation`).  Either way the result's
         ``orientation`` says what was found and done.
 
@@ -384,7 +382,8 @@ def rfi(
         F at the alpha measured (the 2D area may be over-estimated), or the
         search for an alpha failed.
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z.
+        When the crown is measured pointing to -z (``orient="as-is"``), or
+        when it is flat or closed (never turned).
 
     References
     ----------

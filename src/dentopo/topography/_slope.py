@@ -74,7 +74,7 @@ def face_slopes(normals: np.ndarray) -> np.ndarray:
     return np.rint(angle).astype(np.int64)
 
 
-def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
+def slope(mesh, *, orient: str = "auto") -> SlopeResult:
     """Mean surface slope, as molaR 6.0's ``Slope`` computes it.
 
     1. **Mesh.** Files are read with :func:`dentopo.mesh.load_mesh`
@@ -100,14 +100,15 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
     mesh : trimesh.Trimesh, str, path-like, (vertices, faces), or Surface
         A triangle mesh, or one prepared once for several metrics
         (:func:`dentopo.topography.prepare_surface`).  Never modified.
-    orient : {"as-is", "auto"}, default "as-is"
+    orient : {"auto", "as-is"}, default "auto"
         The metric assumes the crown points to +z and its faces are wound
-        outward.  ``"as-is"`` measures the mesh as it lies (molaR's
-        behaviour) and warns if the crown points to -z, its faces are wound
-        inward or it is flat; ``"auto"`` rewinds faces wound inward and turns
-        a crown pointing to -z first (never a flat one: see
-        :func:`dentopo.topography.find_orientation`).  Either way the result's
-        ``orientation`` says what was found and done.
+        outward.  ``"auto"`` (the default) rewinds faces wound inward and
+        turns a crown pointing to -z (away from its open base) first; a flat
+        or closed surface is never turned, and is warned about.  ``"as-is"``
+        measures the mesh as it lies, as molaR does (use it to reproduce
+        molaR's numbers), and warns if the crown points to -z or its faces
+        are wound inward.  See :func:`dentopo.topography.find_orientation`;
+        either way the result's ``orientation`` says what was found and done.
 
     Returns
     -------
@@ -121,8 +122,8 @@ def slope(mesh, *, orient: str = "as-is") -> SlopeResult:
     Warns
     -----
     UserWarning
-        With ``orient="as-is"``, when the crown points to -z; when its faces
-        are wound inward (rewound or not) or it is flat.
+        When the crown is measured pointing to -z (``orient="as-is"``); when
+        its faces are wound inward (rewound or not); when it is flat or closed.
 
     References
     ----------

@@ -249,7 +249,7 @@ class Surface:
         found, inward = self._survey()
         rewind = orient == "auto" and found.wound_inward
         geometry = self._rewound(inward) if rewind else self
-        turn = turn and orient == "auto" and found.points == "-z"
+        turn = turn and found.turns(orient)
         done = replace(found, turned=turn, rewound=rewind)
         vertices, cross, normals = geometry.vertices, geometry.cross, geometry.normals
         if turn:
@@ -353,8 +353,8 @@ def _warn_duplicates(count: int, reverse: int, total: int, duplicates: str) -> N
     if duplicates == "drop":
         done = (
             "they were dropped, so that every metric measures each triangle once (the first "
-            "listing, and its winding, is kept); duplicates='keep' (command line: --duplicates "
-            "keep) measures the faces as listed, as molaR does"
+            "listing, and its winding, is kept); duplicates='keep' measures the faces as "
+            "listed, as molaR does"
         )
     else:
         done = (
