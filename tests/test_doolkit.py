@@ -81,16 +81,19 @@ def doolkit_reference():
         return {row["file"].removesuffix(".ply"): row for row in csv.DictReader(handle)}
 
 
-def measured(mesh) -> dict:
-    """Every value of the reference table this module computes, by column."""
+def measured(mesh, orient: str = "as-is") -> dict:
+    """Every value of the reference table this module computes, by column.
+
+    ``orient="as-is"``: doolkit's numbers (it measures the crown as it lies).
+    """
     slope = doolkit_slope(mesh)
     row = {"n_vertices": slope.vertices, "n_faces": slope.faces, **slope.to_dict()}
-    row.update(inclination(mesh).to_dict())
-    row.update(doolkit_opc(mesh).to_dict())
-    row.update(doolkit_opcr(mesh).to_dict())
-    convex = relief_index(mesh, hull="convex")
+    row.update(inclination(mesh, orient=orient).to_dict())
+    row.update(doolkit_opc(mesh, orient=orient).to_dict())
+    row.update(doolkit_opcr(mesh, orient=orient).to_dict())
+    convex = relief_index(mesh, hull="convex", orient=orient)
     row.update(area3d=convex.area3d, rfi_guy=convex.rfi_guy, area2d_convex=convex.area2d)
-    row.update(relief_rate_below_median(mesh).to_dict())
+    row.update(relief_rate_below_median(mesh, orient=orient).to_dict())
     row.update(shape_index(mesh).to_dict())
     row.update(hypsodonty(mesh).to_dict())
     return row
@@ -171,8 +174,9 @@ def test_opc_and_opcr_totals_equal_molar(name):
     """doolkit's OPC and its 8 rotation totals equal molaR's (bins are numbered differently)."""
     path = shared_mesh(name)
     surface = prepare_surface(path)
-    assert doolkit_opc(path).opc == opc(surface).opc
-    assert doolkit_opcr(path).opc_values == opcr(surface).opc_values
+    assert doolkit_opc(path, orient="as-is").opc == opc(surface, orient="as-is").opc
+    as_is = opcr(surface, orient="as-is").opc_values
+    assert doolkit_opcr(path, orient="as-is").opc_values == as_is
 
 
 @pytest.mark.parametrize("name", SHARED)
@@ -192,10 +196,10 @@ def test_runs_on_every_shared_mesh_and_upside_down(name):
     found = prepare_surface(path, orient="as-is").orientation
     if found.points == "-z":
         assert inclination(path, orient="auto").inclination_mean == pytest.approx(
-            inclination(turned).inclination_mean, rel=1e-12
+            inclination(turned, orient="as-is").inclination_mean, rel=1e-12
         )
         assert relief_rate_below_median(path, orient="auto").rrate == pytest.approx(
-            relief_rate_below_median(turned).rrate, rel=1e-6
+            relief_rate_below_median(turned, orient="as-is").rrate, rel=1e-6
         )
 
 
@@ -276,8 +280,11 @@ def test_hemisphere():
 def test_box_examples():
     box = trimesh.creation.box()
     assert doolkit_slope(box).slope_mean == 60.0
-    assert inclination(box).inclination_mean == 90.0
-    assert relief_index(box, hull="convex").rfi_ungar == pytest.approx(6.0, rel=1e-12)
+    assert inclination(box, orient="as-is").inclination_mean == 90.0
+    with pytest.warns(UserWarning, match="the surface is closed"):  # by default: as it lies
+        assert inclination(box).inclination_mean == 90.0
+    ungar = relief_index(box, hull="convex", orient="as-is").rfi_ungar
+    assert ungar == pytest.approx(6.0, rel=1e-12)
 
 
 # --- invariances and inputs ---------------------------------------------------------------

@@ -97,11 +97,11 @@ examples:
   dentopo scans/ --per-vertex per_vertex/ -o results.csv
   dentopo scans/ -o - | cut -d, -f1,2           # CSV on stdout, messages on stderr
   dentopo scans/ --columns signdne -o DNEs.csv  # the published signDNE CLI's columns
-  dentopo scans/ --metrics all --columns molar -o topography.csv  # molaR_Batch's table
-  dentopo scans/ --metrics rfi,opcr,slope --find-alpha --orient auto -o topography.csv
+  dentopo scans/ --metrics all --find-alpha -o topography.csv  # crowns turned up if need be
+  dentopo scans/ --metrics molar --find-alpha --orient as-is --columns molar -o molar.csv
   dentopo tooth.ply --metrics opc --color-by opc --screenshot opc.png
   dentopo tooth.ply --metrics arc --color-by arc --screenshot arc.png --html arc.html
-  dentopo tooth.ply --color-by elevation --orient auto --screenshot elevation.png
+  dentopo tooth.ply --color-by elevation --screenshot elevation.png
   dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
 
 inputs are files, directories (searched recursively for ply, obj, stl, off, glb,
@@ -374,8 +374,8 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         "(diverging, centred on 0; --limits and --percentile apply), angularity (0 to 90 "
         "degrees), inclination (0 to 180 degrees) or elevation (mesh units, 0 to its highest "
         "face); the metric must be among --metrics, except elevation (doolkit's height above "
-        "the lowest vertex), which the picture step computes from the mesh file itself (with "
-        "--orient auto a crown pointing to -z is turned first)",
+        "the lowest vertex), which the picture step computes from the mesh file itself (a "
+        "crown pointing to -z is turned first, unless --orient as-is)",
     )
     view.add_argument(
         "--view",

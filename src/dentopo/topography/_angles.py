@@ -244,8 +244,8 @@ def doolkit_mesh(mesh, orient: str | None = None) -> DoolkitMesh:
         return DoolkitMesh(vertices, faces)
     found = find_orientation(vertices, faces, molar_face_areas(vertices, faces))
     if found.turns(orient):
-        return DoolkitMesh(vertices @ TURN.T, faces, replace(found, turned=True))
-    return DoolkitMesh(vertices, faces, found)
+        return DoolkitMesh(vertices @ TURN.T, faces, replace(found, turned=True, asked=orient))
+    return DoolkitMesh(vertices, faces, replace(found, asked=orient))
 
 
 def _from_surface(surface: Surface, orient: str | None) -> DoolkitMesh:

@@ -52,7 +52,7 @@ undoes exactly the usual flip (``faces[:, ::-1]``, trimesh's ``invert``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -103,6 +103,10 @@ class Orientation:
         How many faces were found wound inward.
     faces : int
         How many faces the surface has.
+    asked : str or None
+        The ``orient`` it was measured with (None: only found, not measured).
+        A closed surface is warned about unless ``"as-is"`` was asked for
+        (measuring it as it lies is then what was asked).
     """
 
     points: str
@@ -112,6 +116,7 @@ class Orientation:
     rewound: bool = False
     inward_faces: int = 0
     faces: int = 0
+    asked: str | None = field(default=None, compare=False)
 
     @property
     def closed(self) -> bool:
@@ -153,7 +158,7 @@ class Orientation:
                 "the crown points to -z (its open base lies above it); slope, OPC and RFI "
                 "assume it points to +z, as molaR does: turn it with orient='auto'"
             )
-        if self.closed and not winding_only:
+        if self.closed and not winding_only and self.asked != "as-is":
             side = (
                 "neither side of it faces up more than the other"
                 if self.points == "undetermined"
@@ -311,5 +316,5 @@ def orient_vertices(
     orient = check_orient(orient)
     found = find_orientation(vertices, faces, area)
     if found.turns(orient):
-        return vertices @ TURN.T, replace(found, turned=True)
-    return vertices, found
+        return vertices @ TURN.T, replace(found, turned=True, asked=orient)
+    return vertices, replace(found, asked=orient)

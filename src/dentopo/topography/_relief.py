@@ -370,7 +370,7 @@ def relief_index(mesh, *, hull: str = "concave", orient: str = "auto") -> Relief
     dm = doolkit_mesh(mesh, check_orient(orient))
     dm.warn_orientation()
     area3d = dm.area3d
-    area2d = float(footprint_area((dm.vertices, dm.faces), hull=hull).area)
+    area2d = float(footprint_area((dm.vertices, dm.faces), hull=hull, orient="as-is").area)
     slope, elev = dm.slope, dm.elevation
     return ReliefIndexResult(
         rfi_ungar=area3d / area2d,

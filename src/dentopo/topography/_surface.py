@@ -250,7 +250,7 @@ class Surface:
         rewind = orient == "auto" and found.wound_inward
         geometry = self._rewound(inward) if rewind else self
         turn = turn and found.turns(orient)
-        done = replace(found, turned=turn, rewound=rewind)
+        done = replace(found, turned=turn, rewound=rewind, asked=orient)
         vertices, cross, normals = geometry.vertices, geometry.cross, geometry.normals
         if turn:
             # a proper rotation: the same numbers, two of them negated (exactly)
