@@ -165,7 +165,8 @@ def assert_one_line_naming(result, extra: str) -> None:
     lines = result.stderr.splitlines()
     assert len(lines) == 1, result.stderr
     assert f"the {extra} extra" in lines[0]
-    assert f"pip install 'dentopo[{extra}]'" in lines[0]
+    assert f"pip install 'dentopo[{extra}]' from PyPI" in lines[0]
+    assert f"pip install '.[{extra}]' in a clone" in lines[0]
     assert lines[0].startswith("dentopo")
 
 
@@ -301,7 +302,10 @@ def test_the_library_raises_missing_extra_error_with_the_same_words(bare, tmp_pa
         assert report[name] is not None, f"{name} did not raise"
         _, missing, importerror, raised_extra, message = report[name]
         assert (missing, importerror, raised_extra) == (True, True, extra), report[name]
-        assert message.endswith(f"need the {extra} extra: pip install 'dentopo[{extra}]'")
+        assert message.endswith(
+            f"need the {extra} extra: pip install '.[{extra}]' in a clone of dentopo, "
+            f"pip install 'dentopo[{extra}]' from PyPI"
+        )
         assert "\n" not in message
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "out").exists()
 
@@ -322,6 +326,15 @@ def test_every_feature_names_an_extra_of_pyproject_that_installs_its_module():
         providers = {_normal(name) for name in installed_by.get(feature.module, ())}
         assert providers, f"{feature.module} is not installed here"
         assert providers & listed, (feature, listed)  # dask[distributed] lists distributed
+
+
+def test_the_message_says_what_to_run_from_a_clone_and_from_pypi():
+    message = missing_extra_message("pictures", "viz")
+    assert message == (
+        "pictures need the viz extra: pip install '.[viz]' in a clone of dentopo, "
+        "pip install 'dentopo[viz]' from PyPI"
+    )
+    assert "\n" not in message
 
 
 def test_check_finds_a_missing_module_without_importing(monkeypatch):

@@ -3,9 +3,10 @@
 A plain ``pip install dentopo`` computes every metric; pictures, the fast
 method, Dask, data frames and Excel output need an extra.  Asking for one
 without it raises :class:`MissingExtraError` (an ``ImportError``) whose message
-is one line naming the extra to install, e.g.
-``pictures need the viz extra: pip install 'dentopo[viz]'``; the command line
-prints that line and exits with 2.
+is one line naming the extra and the command that installs it both from a
+clone of the repository and from PyPI, e.g. ``pictures need the viz extra:
+pip install '.[viz]' in a clone of dentopo, pip install 'dentopo[viz]' from
+PyPI``; the command line prints that line and exits with 2.
 
 May import: nothing of dentopo (every subpackage may import it).
 """
@@ -36,8 +37,20 @@ class MissingExtraError(ImportError):
 
 
 def missing_extra_message(purpose: str, extra: str) -> str:
-    """``"<purpose> need the <extra> extra: pip install 'dentopo[<extra>]'"``."""
-    return f"{purpose} need the {extra} extra: pip install 'dentopo[{extra}]'"
+    """One line: what needs `extra` and how to install it, from a clone and from PyPI.
+
+    ``"<purpose> need the <extra> extra: pip install '.[<extra>]' in a clone
+    of dentopo, pip install 'dentopo[<extra>]' from PyPI"``.
+    """
+    return (
+        f"{purpose} need the {extra} extra: {install_command(extra, clone=True)} in a clone "
+        f"of dentopo, {install_command(extra)} from PyPI"
+    )
+
+
+def install_command(extra: str, *, clone: bool = False) -> str:
+    """``pip install 'dentopo[<extra>]'``, or ``pip install '.[<extra>]'`` in a clone."""
+    return f"pip install '{'.' if clone else 'dentopo'}[{extra}]'"
 
 
 def require(module: str, *, extra: str, purpose: str) -> ModuleType:

@@ -131,7 +131,7 @@ def ariaDNE(  # noqa: N802 -- the paper's name
         For unusable meshes or parameters; the message names the problem.
     dentopo._optional.MissingExtraError
         An ``ImportError``: ``method="fast"`` without the optional ``finufft``
-        (``pip install 'dentopo[fast]'``).
+        (``pip install 'dentopo[fast]'``, in a clone ``pip install '.[fast]'``).
 
     Warns
     -----

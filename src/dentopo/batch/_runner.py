@@ -707,8 +707,9 @@ def compute_batch(
         If no mesh file is found, or an option is invalid.
     dentopo._optional.MissingExtraError
         An ``ImportError``: a `scheduler` without dask.distributed
-        (``pip install 'dentopo[cluster]'``), or ``method="fast"`` without
-        finufft (``pip install 'dentopo[fast]'``), before any file is computed.
+        (``pip install 'dentopo[cluster]'``, in a clone ``pip install '.[cluster]'``),
+        or ``method="fast"`` without finufft (``pip install 'dentopo[fast]'``, in a
+        clone ``pip install '.[fast]'``), before any file is computed.
 
     Warns
     -----
@@ -796,7 +797,8 @@ def to_dataframe(records: Iterable[dict]):
     Raises
     ------
     dentopo._optional.MissingExtraError
-        An ``ImportError``: pandas is not installed (``pip install 'dentopo[table]'``).
+        An ``ImportError``: pandas is not installed (``pip install 'dentopo[table]'``, in a clone
+        ``pip install '.[table]'``).
     """
     pd = DATA_FRAMES.require()
     records = list(records)

@@ -491,7 +491,8 @@ def render_curvature(
         For bad options, or when no output is requested.
     dentopo._optional.MissingExtraError
         An ``ImportError``: a screenshot or a window without pyvista
-        (``pip install 'dentopo[viz]'``); HTML pages need no extra.
+        (``pip install 'dentopo[viz]'``, in a clone ``pip install '.[viz]'``); HTML pages need no
+        extra.
 
     Examples
     --------

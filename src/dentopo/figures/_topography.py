@@ -469,7 +469,8 @@ def render_slope(
     DisplayUnavailableError
         If `interactive` is True and there is no display.
     dentopo._optional.MissingExtraError
-        A screenshot or a window without pyvista (``pip install 'dentopo[viz]'``).
+        A screenshot or a window without pyvista (``pip install 'dentopo[viz]'``, in a clone
+        ``pip install '.[viz]'``).
 
     Examples
     --------

@@ -732,7 +732,8 @@ def write_table(
         For an unknown suffix, format or layout, or a binary format (xlsx)
         asked of a text stream.
     dentopo.MissingExtraError
-        For ``.xlsx`` without openpyxl (``pip install 'dentopo[excel]'``).
+        For ``.xlsx`` without openpyxl (``pip install 'dentopo[excel]'``, in a clone
+        ``pip install '.[excel]'``).
     """
     chosen = layout(columns)
     stream = path if hasattr(path, "write") else None

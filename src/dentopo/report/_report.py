@@ -115,7 +115,8 @@ def write_report(
     TypeError, ValueError
         For a table that cannot be read, a bad groups file, bad limits.
     dentopo._optional.MissingExtraError
-        Without plotly (``pip install 'dentopo[report]'``) or pyvista.
+        Without plotly (``pip install 'dentopo[report]'``, in a clone ``pip install '.[report]'``)
+        or pyvista.
 
     Examples
     --------

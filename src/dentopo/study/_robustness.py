@@ -123,7 +123,7 @@ def decimate(vertices: np.ndarray, faces: np.ndarray, target_faces: int) -> tupl
     ------
     dentopo._optional.MissingExtraError
         An ``ImportError``: fast-simplification is not installed
-        (``pip install 'dentopo[study]'``).
+        (``pip install 'dentopo[study]'``, in a clone ``pip install '.[study]'``).
     """
     fast_simplification = DECIMATION.require()
     v, f = fast_simplification.simplify(
@@ -234,7 +234,8 @@ def perturb(
     ------
     dentopo._optional.MissingExtraError
         An ``ImportError``: a face count below the mesh's needs decimation,
-        whose fast-simplification is not installed (``pip install 'dentopo[study]'``).
+        whose fast-simplification is not installed (``pip install 'dentopo[study]'``, in a clone
+        ``pip install '.[study]'``).
     """
     low_faces = _check_count("low_faces", low_faces)
     high_faces = _check_count("high_faces", high_faces)

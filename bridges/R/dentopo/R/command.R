@@ -9,7 +9,8 @@
 .dentopo_state <- new.env(parent = emptyenv())
 
 INSTALL_HINT <- paste(
-  "Install it with 'pip install dentopo' (or 'pipx install dentopo'),",
+  "Install it with 'pip install .' in a clone of dentopo, or",
+  "'pip install dentopo' (or 'pipx install dentopo') from PyPI,",
   "then put it on the PATH, set the DENTOPO environment variable to the",
   "program (e.g. DENTOPO=/path/to/venv/bin/dentopo), or call",
   "options(dentopo.command = \"/path/to/venv/bin/dentopo\")."
