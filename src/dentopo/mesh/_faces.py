@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import njit
-from ._topology import FEW_CORNERS, corners_by_vertex
+from ._topology import FEW_CORNERS, corners_by_vertex, stable_order
 
 
 @njit(cache=True, inline="always")
@@ -149,7 +149,8 @@ def _first_faces(faces, keep, start, corner, first):  # pragma: no cover
             group[count] = g
             key[count] = t * n + u
             count += 1
-        order = np.argsort(key[:count], kind="mergesort")
+        order = np.empty(count, np.int64)
+        stable_order(key[:count], order)
         for k in range(1, count):
             if key[order[k]] == key[order[k - 1]]:
                 first[group[order[k]]] = False

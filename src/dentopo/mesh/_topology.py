@@ -102,6 +102,97 @@ def corners_by_vertex(
 FEW_CORNERS = 32
 
 
+#: Runs this short are sorted by insertion before the merges.
+_RUN = 16
+
+
+@njit(cache=True)
+def sort_ints(values):  # pragma: no cover
+    """Sort `values` (1-D, integers) in place, ascending: ``values[:] = np.sort(values)``.
+
+    A bottom-up merge sort over insertion-sorted runs.  numba's own ``np.sort``
+    gives the same array (integers sort one way only) but takes seconds to
+    compile into each kernel that uses it, on every fresh install; this takes a
+    fraction of a second, once.
+    """
+    n = values.shape[0]
+    for lo in range(0, n, _RUN):
+        hi = min(lo + _RUN, n)
+        for k in range(lo + 1, hi):
+            x = values[k]
+            j = k - 1
+            while j >= lo and values[j] > x:
+                values[j + 1] = values[j]
+                j -= 1
+            values[j + 1] = x
+    if n <= _RUN:
+        return
+    src = values
+    dst = np.empty_like(values)
+    width = _RUN
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid = min(lo + width, n)
+            hi = min(lo + 2 * width, n)
+            i = lo
+            j = mid
+            for k in range(lo, hi):
+                if j >= hi or (i < mid and src[i] <= src[j]):
+                    dst[k] = src[i]
+                    i += 1
+                else:
+                    dst[k] = src[j]
+                    j += 1
+        src, dst = dst, src
+        width *= 2
+    if src is not values:
+        values[:] = src
+
+
+@njit(cache=True)
+def stable_order(key, order):  # pragma: no cover
+    """``order[:] = np.argsort(key, kind="stable")`` for a 1-D integer `key`; `order` int64.
+
+    A stable merge sort of the indices (equal keys keep their order, so the
+    result is the one ``kind="stable"`` gives), for the reason given in
+    :func:`sort_ints`.
+    """
+    n = key.shape[0]
+    for k in range(n):
+        order[k] = k
+    for lo in range(0, n, _RUN):
+        hi = min(lo + _RUN, n)
+        for k in range(lo + 1, hi):
+            x = order[k]
+            j = k - 1
+            while j >= lo and key[order[j]] > key[x]:
+                order[j + 1] = order[j]
+                j -= 1
+            order[j + 1] = x
+    if n <= _RUN:
+        return
+    src = order
+    dst = np.empty_like(order)
+    width = _RUN
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid = min(lo + width, n)
+            hi = min(lo + 2 * width, n)
+            i = lo
+            j = mid
+            for k in range(lo, hi):
+                if j >= hi or (i < mid and key[src[i]] <= key[src[j]]):
+                    dst[k] = src[i]
+                    i += 1
+                else:
+                    dst[k] = src[j]
+                    j += 1
+        src, dst = dst, src
+        width *= 2
+    if src is not order:
+        order[:] = src
+
+
 @njit(cache=True)
 def _sort_long_groups(start, following):  # pragma: no cover
     """Sort ``following`` within each vertex's group of more than ``FEW_CORNERS`` corners.
@@ -113,7 +204,7 @@ def _sort_long_groups(start, following):  # pragma: no cover
         lo = start[v]
         hi = start[v + 1]
         if hi - lo > FEW_CORNERS:
-            following[lo:hi] = np.sort(following[lo:hi])
+            sort_ints(following[lo:hi])
 
 
 @njit(cache=True, inline="always")
@@ -369,7 +460,7 @@ def _reverse_missing(faces, n, boundary):
             fill[u] += 1
     for v in range(n):
         if start[v + 1] - start[v] > 32:
-            target[start[v] : start[v + 1]] = np.sort(target[start[v] : start[v + 1]])
+            sort_ints(target[start[v] : start[v + 1]])
         else:  # the usual few: insertion sort, no allocation
             for k in range(start[v] + 1, start[v + 1]):
                 x = target[k]

@@ -160,7 +160,8 @@ class DoolkitMesh:
         """(m, 3) unit face normals as ``Morpho::facenormals`` (double; zero stays zero)."""
         cross = np.empty((len(self.faces), 3))
         norm = np.empty(len(self.faces))
-        _kernels.face_cross_norm(self.vertices, self.faces, cross, norm)
+        readonly = _kernels.readonly
+        _kernels.face_cross_norm(readonly(self.vertices), readonly(self.faces), cross, norm)
         safe = np.where(norm > 0, norm, 1.0)
         return cross / safe[:, None]
 

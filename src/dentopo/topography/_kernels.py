@@ -22,6 +22,18 @@ from .._jit import njit
 from ..mesh._faces import _sorted3, corner_cross, normalise_rows
 
 
+def readonly(array: np.ndarray) -> np.ndarray:
+    """A read-only view of `array` (no copy), for a kernel's input.
+
+    numba compiles a kernel once for writable and once more for read-only
+    arrays (a Surface's are read-only); passing every input read-only keeps
+    it to one compilation on a fresh install.
+    """
+    view = array.view()
+    view.flags.writeable = False
+    return view
+
+
 @njit(cache=True)
 def face_cross_norm(vertices, faces, cross, norm):
     """``cross = (v2 - v1) x (v3 - v1)`` and ``norm = |cross|`` of every face.

@@ -230,7 +230,9 @@ class Surface:
             faces = np.where(inward[:, None], self.faces[:, ::-1], self.faces)
             cross = np.empty((len(faces), 3))
             norm = np.empty(len(faces))
-            _kernels.face_cross_norm(self.vertices, faces, cross, norm)
+            _kernels.face_cross_norm(
+                _kernels.readonly(self.vertices), _kernels.readonly(faces), cross, norm
+            )
             return Surface(
                 vertices=self.vertices,
                 faces=faces,
@@ -409,7 +411,7 @@ def prepare_surface(mesh, orient: str | None = None, *, duplicates: str = "drop"
         vertices, faces = as_arrays(mesh)
         cross = np.empty((len(faces), 3))
         norm = np.empty(len(faces))
-        _kernels.face_cross_norm(vertices, faces, cross, norm)
+        _kernels.face_cross_norm(_kernels.readonly(vertices), _kernels.readonly(faces), cross, norm)
         keep = norm > 0
         kept = int(np.count_nonzero(keep))
         if kept == 0:

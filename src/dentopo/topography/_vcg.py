@@ -66,6 +66,7 @@ import math
 import numpy as np
 
 from .._jit import njit
+from ._kernels import readonly
 from ._parameters import BOUNDARY_RULES
 
 #: float32's machine epsilon: vertices with a mixed area at or below it get curvature 0.
@@ -118,7 +119,9 @@ def vertex_normals(vertices32: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """
     out = np.empty((len(vertices32), 3), dtype=np.float32)
     _vertex_normals(
-        np.ascontiguousarray(vertices32, dtype=np.float32), np.asarray(faces, np.int64), out
+        readonly(np.ascontiguousarray(vertices32, dtype=np.float32)),
+        readonly(np.ascontiguousarray(faces, dtype=np.int64)),
+        out,
     )
     return out
 
@@ -214,13 +217,13 @@ def mean_curvature(vertices32: np.ndarray, faces: np.ndarray, normals32: np.ndar
     `normals32`, and vertices with ``A <= float32 epsilon`` get 0.  See the
     module's notes for the precision of each step.
     """
-    v = np.ascontiguousarray(vertices32, dtype=np.float32)
-    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    v = readonly(np.ascontiguousarray(vertices32, dtype=np.float32))
+    faces = readonly(np.ascontiguousarray(faces, dtype=np.int64))
     cot = np.empty((len(faces), 3), dtype=np.float32)
     part = np.empty((len(faces), 3), dtype=np.float32)
     _face_terms(v, faces, cot, part)
     out = np.empty(len(v), dtype=np.float32)
-    normals32 = np.ascontiguousarray(normals32, dtype=np.float32)
+    normals32 = readonly(np.ascontiguousarray(normals32, dtype=np.float32))
     _mean_curvature(v, faces, normals32, cot, part, np.float32(EPS32), out)
     return out
 
