@@ -212,3 +212,39 @@ def test_a_dead_workers_reason_names_the_signal():
     assert death_reason(-signal.SIGKILL) == "worker process killed by SIGKILL (out of memory?)"
     assert death_reason(-signal.SIGSEGV) == "worker process killed by SIGSEGV"
     assert death_reason(3) == "worker process exited unexpectedly (exit code 3)"
+
+
+def test_dae_files_skipped_without_pycollada_are_warned_about_once(tmp_path, monkeypatch):
+    import dentopo.batch._inputs as inputs
+
+    tooth(rings=3).export(tmp_path / "a.ply")
+    for name in ("b.dae", "sub/c.dae"):
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text("<COLLADA/>")
+    monkeypatch.setattr(inputs, "mesh_extensions", lambda: ("ply",))  # as without pycollada
+    with pytest.warns(UserWarning, match=r"2 \.dae files skipped .* needs pycollada") as caught:
+        found = find_mesh_files([tmp_path, str(tmp_path / "sub")])
+    assert len(caught) == 1  # once, not per file or folder
+    assert [os.path.basename(f) for f in found.files] == ["a.ply"]
+    monkeypatch.setattr(inputs, "mesh_extensions", lambda: ("ply", "dae"))  # with pycollada
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        found = find_mesh_files([tmp_path])
+    assert sorted(os.path.basename(f) for f in found.files) == ["a.ply", "b.dae", "c.dae"]
+
+
+def test_the_command_says_a_dae_file_was_skipped(tmp_path, monkeypatch, capsys):
+    import dentopo.batch._inputs as inputs
+    from dentopo.cli import main
+
+    tooth(rings=3).export(tmp_path / "a.ply")
+    (tmp_path / "b.dae").write_text("<COLLADA/>")
+    monkeypatch.setattr(inputs, "mesh_extensions", lambda: ("ply",))
+    assert main([str(tmp_path), "-q"]) == 0
+    err = capsys.readouterr().err
+    assert err.splitlines() == [
+        "dentopo: warning: a .dae file skipped in the folders searched: reading .dae needs "
+        "pycollada (pip install pycollada)"
+    ]

@@ -67,6 +67,18 @@ def test_help_shows_the_papers_examples(capsys):
     assert "dentopo path/to/mesh.ply -v" in out
 
 
+def test_help_names_every_format_searched_in_folders(capsys):
+    from dentopo.batch import FORMAT_PACKAGES, MESH_EXTENSIONS
+
+    assert main(["--help"]) == 0
+    paragraph = capsys.readouterr().out.split("inputs are files")[1].split("\n\n")[0]
+    words = " ".join(paragraph.split())  # wrapped: join the lines
+    assert "3mf" in MESH_EXTENSIONS and "dae" in MESH_EXTENSIONS
+    assert ", ".join(MESH_EXTENSIONS) in words
+    for ext, package in FORMAT_PACKAGES.items():
+        assert f"{ext} needs {package}" in words
+
+
 def test_samples_print_a_table_on_stdout_and_progress_on_stderr(capsys):
     assert main(["--samples"]) == 0
     out, err = capsys.readouterr()

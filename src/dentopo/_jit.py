@@ -16,6 +16,11 @@ is compiled (a few seconds at most), not lost.
 The hold listens to numba's compile events (``numba.core.event``), so it covers
 every compilation in the process, a kernel's callees too.
 
+The same events are timed: :func:`compile_seconds` is how long the calling
+thread has spent compiling so far (numba raises the event only when a kernel is
+really compiled, not when it is loaded from the cache), so that a batch row's
+``seconds`` can leave the compilation out.
+
 May import: nothing of dentopo (every subpackage may import it).
 """
 
@@ -23,11 +28,12 @@ from __future__ import annotations
 
 import signal
 import threading
+import time
 
 from numba import njit, prange
 from numba.core import event
 
-__all__ = ["njit", "prange"]
+__all__ = ["compile_seconds", "njit", "prange"]
 
 #: The signals held while numba compiles.
 HELD = (signal.SIGINT, signal.SIGTERM)
@@ -74,3 +80,40 @@ class _HoldSignals(event.Listener):
 #: Registered as this module is imported: every kernel module takes ``njit`` from here.
 _HOLD = _HoldSignals()
 event.register("numba:compile", _HOLD)
+
+
+class _CompileClock(event.Listener):
+    """Seconds each thread spends in outermost compilations (a callee's are inside its caller's)."""
+
+    def __init__(self):
+        self.local = threading.local()
+
+    def on_start(self, event_) -> None:
+        local = self.local
+        depth = getattr(local, "depth", 0)
+        if depth == 0:
+            local.started = time.perf_counter()
+        local.depth = depth + 1
+
+    def on_end(self, event_) -> None:
+        local = self.local
+        depth = getattr(local, "depth", 0)
+        if depth == 0:
+            return
+        local.depth = depth - 1
+        if depth == 1:
+            local.total = getattr(local, "total", 0.0) + time.perf_counter() - local.started
+
+
+_CLOCK = _CompileClock()
+event.register("numba:compile", _CLOCK)
+
+
+def compile_seconds() -> float:
+    """Seconds the calling thread has spent compiling kernels since dentopo was imported.
+
+    Only finished compilations count; 0.0 while every kernel has come from
+    numba's cache.  The difference between two calls is the compilation time
+    between them.
+    """
+    return getattr(_CLOCK.local, "total", 0.0)

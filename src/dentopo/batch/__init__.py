@@ -10,7 +10,7 @@ May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topograph
 :mod:`dentopo.formats`.  Nothing from figures, study or cli.
 """
 
-from ._inputs import MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
+from ._inputs import FORMAT_PACKAGES, MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
 from ._interrupts import Interrupted, guard_interrupts
 from ._pool import run_pool
 from ._runner import (
@@ -35,6 +35,7 @@ from ._runner import (
 )
 
 __all__ = [
+    "FORMAT_PACKAGES",
     "MESH_EXTENSIONS",
     "FoundInputs",
     "Interrupted",

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import glob
 import os
+import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
@@ -18,6 +19,8 @@ from ..formats import OUTPUT_SUFFIX
 
 #: Mesh formats searched for in directories (when trimesh can read them).
 MESH_EXTENSIONS = ("ply", "obj", "stl", "off", "glb", "gltf", "3mf", "dae")
+#: The formats trimesh reads only with a package that dentopo does not install.
+FORMAT_PACKAGES = {"dae": "pycollada"}
 
 _GLOB_CHARACTERS = frozenset("*?[")
 
@@ -57,13 +60,18 @@ def _is_hidden(name: str) -> bool:
     return name.startswith(".")
 
 
-def _search_directory(directory: str, extensions: tuple[str, ...]) -> list[str]:
+def _search_directory(
+    directory: str, extensions: tuple[str, ...], skipped: dict[str, set[str]] | None = None
+) -> list[str]:
+    """Mesh files below `directory`; `skipped` collects the files of unreadable formats."""
     found = []
     for root, dirnames, filenames in os.walk(directory, followlinks=False):
         dirnames[:] = sorted(d for d in dirnames if not _is_hidden(d))
         for name in filenames:
             ext = os.path.splitext(name)[1][1:].lower()
             if _is_hidden(name) or ext not in extensions:
+                if skipped is not None and not _is_hidden(name) and ext in FORMAT_PACKAGES:
+                    skipped.setdefault(ext, set()).add(_key(os.path.join(root, name)))
                 continue
             path = os.path.join(root, name)
             if not is_own_output(path):
@@ -94,14 +102,22 @@ def find_mesh_files(inputs: Iterable[str | os.PathLike]) -> FoundInputs:
     FoundInputs
         ``files`` sorted and free of duplicates (the same file reached twice,
         also through a symbolic link, is listed once), and ``unmatched``.
+
+    Warns
+    -----
+    UserWarning
+        Once per format, when a directory holds files of a format searched for
+        that trimesh cannot read here (``.dae`` without pycollada): they are
+        skipped, and the warning names the package that reads them.
     """
     extensions = mesh_extensions()
+    skipped: dict[str, set[str]] = {}  # files of a format trimesh cannot read, by extension
     candidates: list[str] = []
     unmatched: list[str] = []
     for item in inputs:
         path = os.fspath(item)
         if os.path.isdir(path):
-            files = _search_directory(path, extensions)
+            files = _search_directory(path, extensions, skipped)
             if not files:
                 unmatched.append(path)
             candidates.extend(files)
@@ -111,12 +127,21 @@ def find_mesh_files(inputs: Iterable[str | os.PathLike]) -> FoundInputs:
             files = []
             for match in sorted(glob.glob(path, recursive=True)):
                 if os.path.isdir(match):
-                    files.extend(_search_directory(match, extensions))
+                    files.extend(_search_directory(match, extensions, skipped))
                 elif not _is_hidden(os.path.basename(match)) and not is_own_output(match):
                     files.append(match)
             if not files:
                 unmatched.append(path)
             candidates.extend(files)
+    for ext, paths in skipped.items():  # once per format, not once per file or folder
+        count = len(paths)
+        files = "a .{0} file" if count == 1 else f"{count} .{{0}} files"
+        warnings.warn(
+            f"{files.format(ext)} skipped in the folders searched: reading .{ext} needs "
+            f"{FORMAT_PACKAGES[ext]} (pip install {FORMAT_PACKAGES[ext]})",
+            UserWarning,
+            stacklevel=2,
+        )
     chosen: dict[str, str] = {}  # one spelling per file: the shortest ("a.ply", not "./a.ply")
     for path in sorted(candidates, key=lambda p: (len(p), p)):
         chosen.setdefault(_key(path), path)

@@ -163,13 +163,24 @@ PhaseCallback = Callable[[str, str], None]
 
 
 def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None = None) -> Outcome:
-    """Compute one file; never raises for a bad file (the record says what went wrong)."""
+    """Compute one file; never raises for a bad file (the record says what went wrong).
+
+    The row's ``seconds`` leave out the time spent compiling kernels (a fresh
+    install's first meshes), so that they measure the computation alone.
+    """
     import numba
+
+    from .._jit import compile_seconds
 
     previous_threads = numba.get_num_threads()
     if settings.threads is not None:  # per calling thread: safe in threaded workers
         numba.set_num_threads(min(settings.threads, numba.config.NUMBA_NUM_THREADS))
     start = time.perf_counter()
+    compiled = compile_seconds()
+
+    def elapsed() -> float:
+        return round(max(0.0, time.perf_counter() - start - (compile_seconds() - compiled)), 4)
+
     measured = None
     step = "reading"
     try:
@@ -193,7 +204,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                 if task.per_vertex_dir is not None and measured.status != "error":
                     _write_per_mesh(task, measured)
             except Exception as exc:  # one bad file never stops the batch
-                seconds = round(time.perf_counter() - start, 4)
+                seconds = elapsed()
                 if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
                     reason = "unreadable: a broken symbolic link"
                 elif isinstance(exc, OSError) and step == "writing the per-vertex files":
@@ -204,7 +215,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                 record = error_record(task.file, reason, seconds, settings.keys())
                 measured = None
             else:
-                seconds = round(time.perf_counter() - start, 4)
+                seconds = elapsed()
                 if measured.status == "error":  # no metric computed: an error row
                     record = error_record(task.file, measured.error, seconds, settings.keys())
                     measured = None

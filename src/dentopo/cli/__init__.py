@@ -5,7 +5,8 @@ main command (a table with one row per mesh), drawing its progress with
 ``_progress`` and its table with ``_table`` (both with rich on a terminal,
 plain text otherwise), and keeping its table file with ``_output`` (checked
 before any work, locked, each finished row journalled as it finishes);
-``_study`` the ``robustness`` and ``sweep`` subcommands.  Only this
+``_study`` the ``robustness`` and ``sweep`` subcommands; ``_compiling`` prints
+one line while numba compiles kernels (a fresh install's first run).  Only this
 subpackage prints or exits.  A missing extra ends as one line naming it, with
 exit code 2; an interrupt as one line, with exit code 130.
 

@@ -21,12 +21,16 @@ import importlib
 import os
 import signal
 import sys
+import textwrap
+import warnings
 from dataclasses import replace
 
 from .._optional import PICTURES, MissingExtraError
 from .._version import __version__
 from ..ariadne import METHODS
 from ..batch import (
+    FORMAT_PACKAGES,
+    MESH_EXTENSIONS,
     Interrupted,
     Outcome,
     available_cores,
@@ -60,6 +64,7 @@ from ..formats import (
 from ..samples import sample_paths
 from ..sign import SIGN_METHODS
 from ..topography import BOUNDARY_RULES, DUPLICATE_MODES, GROUPS, METRICS, ORIENT_MODES
+from ._compiling import CompileNotice, notice_text
 from ._hints import CommandLineHints
 from ._output import Planned, TableOutput, output_problem
 from ._progress import PROG, Progress
@@ -104,8 +109,7 @@ examples:
   dentopo tooth.ply --color-by elevation --screenshot elevation.png
   dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
 
-inputs are files, directories (searched recursively for ply, obj, stl, off, glb,
-gltf; hidden files and *.dentopo.* outputs skipped) and quoted glob patterns.
+{inputs}
 A file named like a subcommand is given as ./NAME.
 
 columns (also in the API and the files): file, dne, positive_dne,
@@ -135,6 +139,17 @@ on the same FILE take turns: the second waits for the first.
 """
 
 
+def _inputs_help() -> str:
+    """The epilog's paragraph on inputs, naming every format searched in directories."""
+    formats = ", ".join(MESH_EXTENSIONS)
+    needs = "; ".join(f"{ext} needs {package}" for ext, package in FORMAT_PACKAGES.items())
+    return textwrap.fill(
+        f"inputs are files, directories (searched recursively for {formats} ({needs}); "
+        "hidden files and *.dentopo.* outputs skipped) and quoted glob patterns.",
+        width=79,
+    )
+
+
 def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     """The argument parser of the main command (`subcommands`: names listed in its help)."""
     description = (
@@ -147,7 +162,7 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog=PROG,
         description=description,
-        epilog=EXAMPLES,
+        epilog=EXAMPLES.replace("{inputs}", _inputs_help()),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("paths", nargs="*", metavar="PATH", help="mesh files, directories, globs")
@@ -779,7 +794,11 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     if not paths:
         _say("no mesh files given (try --help, or --samples)")
         return 2
-    found = find_mesh_files(paths)
+    with warnings.catch_warnings(record=True) as caught:  # e.g. .dae files without pycollada
+        warnings.simplefilter("always")
+        found = find_mesh_files(paths)
+    for warning in caught:
+        _say(f"warning: {warning.message}")
     for pattern in found.unmatched:
         _say(f"no mesh files in {pattern!r}")
     if not found.files:
@@ -908,6 +927,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
     outcomes: dict[int, Outcome] = {}
     interrupted: BaseException | None = None
     unrecorded: OSError | None = None
+    notice = CompileNotice(notice_text(settings.metrics), progress.message)
+    if not args.quiet and jobs == 1 and scheduler is None:  # compiled here, not in workers
+        notice.start()
     running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
     try:
         for outcome in running:
@@ -935,6 +957,7 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
         _say(f"cannot run on scheduler {scheduler!r}: {exc}" if scheduler else str(exc))
         return 2
     finally:
+        notice.stop()
         with guard.held():
             running.close()  # stops the workers, also on Ctrl-C
             progress.close()
