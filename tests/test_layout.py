@@ -26,7 +26,7 @@ ALLOWED = {
     "figures": {"mesh", "sign", "ariadne", "topography"},
     "formats": {"mesh", "ariadne", "topography", "figures"},
     "batch": {"mesh", "sign", "ariadne", "topography", "formats"},
-    "study": {"mesh", "sign", "ariadne", "topography", "formats"},
+    "study": {"mesh", "sign", "ariadne", "topography", "formats", "figures"},
     "report": {"mesh", "sign", "ariadne", "topography", "figures", "formats", "batch"},
     "cli": {
         "mesh",

@@ -170,3 +170,31 @@ def test_commands(crown, tmp_path, capsys):
     bad = robustness_main([str(path), "-o", str(tmp_path), "--perturbation", "nopath"])
     assert bad == 2
     assert robustness_main([str(tmp_path / "missing.ply"), "-o", str(tmp_path)]) == 1
+
+
+def test_the_study_figures_use_the_packages_one_diverging_map():
+    """The README's one colour map (Moreland's cool to warm, zero neutral), not matplotlib's."""
+    pytest.importorskip("matplotlib")
+    from matplotlib.figure import Figure
+
+    from dentopo.figures import NEUTRAL, diverging_rgb
+    from dentopo.study import _figures
+
+    # faces in the view plane (shade 1): each face's colour is the map's colour of its value
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [2, 0, 0]], float)
+    faces = np.array([[0, 1, 2], [1, 3, 2], [1, 4, 3]])
+    values = np.array([-2.0, 0.0, 0.5])
+    ax = Figure().subplots()
+    _figures.draw_mesh(ax, vertices, faces, values, basis=np.eye(3), limit=1.0)
+    [collection] = ax.collections
+    drawn = collection.get_facecolors()[:, :3]
+    order = np.argsort(vertices[faces][:, :, 2].mean(axis=1), kind="stable")
+    expected = diverging_rgb(np.clip(values, -1, 1))[order]
+    assert np.allclose(drawn, expected, atol=1e-12)
+    assert np.allclose(drawn[list(order).index(1)], NEUTRAL)  # face 1's value is zero
+
+    # the colour bars: the same map, end to end
+    bar = _figures.colour_map()
+    for t in np.linspace(-1, 1, 21):
+        assert np.allclose(bar(0.5 + 0.5 * t)[:3], diverging_rgb(t), atol=0.01), t
+    assert np.allclose(bar(0.5)[:3], NEUTRAL, atol=1e-3)

@@ -5,8 +5,9 @@ smoothing), computes every sign method and classic DNE on each, and writes the
 table; ``_figures`` draws its matplotlib figures (imported only when written).
 
 May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
-:mod:`dentopo.topography`, :mod:`dentopo.formats` (atomic writes).  Nothing from
-figures, batch or cli.
+:mod:`dentopo.topography`, :mod:`dentopo.formats` (atomic writes),
+:mod:`dentopo.figures` (the one diverging colour map).  Nothing from batch or
+cli.
 """
 
 from ._robustness import (

@@ -27,11 +27,11 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from .._optional import STUDY_FIGURES, require
+from ..figures import diverging_rgb
 from ..mesh import outward_faces
 from ..topography import ClassicDNEResult
 
 PERCENTILE = 98.0
-CMAP = "RdBu_r"
 METHOD_LABELS = {
     "centroid": "signDNE (centroid)",
     "winding": "winding number",
@@ -68,9 +68,24 @@ def view_basis(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return np.vstack([right, np.cross(toward, right), toward])
 
 
-def draw_mesh(ax, vertices, faces, values, *, basis, limit, cmap=CMAP) -> None:
-    """Paint a mesh on a 2-D axes, orthographic along ``basis[2]``, back to front."""
-    colormaps = _mpl("matplotlib").colormaps
+def colour_map():
+    """The package's diverging map (:func:`dentopo.figures.diverging_rgb`) for matplotlib.
+
+    The one map of every other picture (Moreland's cool to warm, zero neutral),
+    as a matplotlib colormap for the figures' colour bars.
+    """
+    colors = _mpl("matplotlib.colors")
+    return colors.ListedColormap(
+        diverging_rgb(np.linspace(-1.0, 1.0, 255)), name="dentopo_diverging"
+    )
+
+
+def draw_mesh(ax, vertices, faces, values, *, basis, limit) -> None:
+    """Paint a mesh on a 2-D axes, orthographic along ``basis[2]``, back to front.
+
+    Faces are coloured by :func:`dentopo.figures.diverging_rgb` at ``values /
+    limit`` (clipped to [-1, 1]), the package's one diverging map.
+    """
     collections = _mpl("matplotlib.collections")
 
     projected = (vertices - vertices.mean(axis=0)) @ basis.T
@@ -79,7 +94,8 @@ def draw_mesh(ax, vertices, faces, values, *, basis, limit, cmap=CMAP) -> None:
     length = np.linalg.norm(normal, axis=1)
     shade = np.divide(np.abs(normal[:, 2]), length, out=np.zeros(len(faces)), where=length > 0)
     order = np.argsort(tri[:, :, 2].mean(axis=1))
-    colour = colormaps[cmap](0.5 + 0.5 * np.clip(values / limit, -1.0, 1.0))
+    rgb = diverging_rgb(np.clip(values / limit, -1.0, 1.0))
+    colour = np.column_stack([rgb, np.ones(len(rgb))])
     colour[:, :3] *= (0.35 + 0.65 * shade)[:, None]
     ax.add_collection(
         collections.PolyCollection(
@@ -143,7 +159,8 @@ def sign_grid(grid: Mapping[str, Sequence], column_labels: Sequence[str]):
         )
         bar = figure.colorbar(
             cm.ScalarMappable(
-                colors.Normalize(-1 if per_cell else -limit, 1 if per_cell else limit), CMAP
+                colors.Normalize(-1 if per_cell else -limit, 1 if per_cell else limit),
+                colour_map(),
             ),
             ax=axes[r, -1],
             shrink=0.8,
