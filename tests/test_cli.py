@@ -429,13 +429,16 @@ class _DisplayUnavailableError(RuntimeError):
     pass
 
 
-def fake_renderer(monkeypatch, *, display=True):
+def fake_renderer(monkeypatch, *, display=True, window=True):
+    """A stand-in for dentopo.figures; `display` is what has_display says, `window` whether
+    drawing works (False: it raises DisplayUnavailableError, as a window that fails late)."""
     calls = []
     module = types.ModuleType("dentopo.figures")
     module.DisplayUnavailableError = _DisplayUnavailableError
+    module.has_display = lambda: display
 
     def render_curvature(mesh, result=None, **options):
-        if not display:
+        if not window:
             raise _DisplayUnavailableError("no display (DISPLAY is not set)")
         calls.append(("curvature", mesh, result, options))
 
@@ -473,13 +476,27 @@ def test_visualise_needs_one_input_and_panel_takes_all(tmp_path, monkeypatch, ca
     assert options["labels"] == ["a.ply", "b.ply"] and options["html"] == str(tmp_path / "p.html")
 
 
-def test_display_unavailable_exits_1_and_keeps_the_rows(tmp_path, monkeypatch, capsys):
-    fake_renderer(monkeypatch, display=False)
+def test_a_window_that_fails_late_exits_1_and_keeps_the_rows(tmp_path, monkeypatch, capsys):
+    fake_renderer(monkeypatch, window=False)
     mesh = small_sphere(tmp_path / "a.ply")
     out = tmp_path / "out.csv"
     assert main([str(mesh), "-v", "-o", str(out), "-q"]) == 1
     assert "no display" in capsys.readouterr().err
     assert read_csv(out)[1][0]["status"] == "ok"
+
+
+@pytest.mark.parametrize("spelling", ["-v", "--show", "--visualize"])
+def test_show_without_a_display_says_so_before_computing(tmp_path, monkeypatch, capsys, spelling):
+    calls = fake_renderer(monkeypatch, display=False)
+    measured = []
+    monkeypatch.setattr("dentopo.cli._compute.run_tasks", lambda *a, **k: measured.append(a))
+    mesh = small_sphere(tmp_path / "a.ply")
+    out = tmp_path / "out.csv"
+    assert main([str(mesh), spelling, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "needs a display" in err and "--screenshot" in err and "--html" in err
+    assert err.count("\n") == 1  # one line, and no progress: nothing was computed
+    assert not out.exists() and calls == [] and measured == []
 
 
 def test_method_option_is_recorded_and_fast_agrees_with_exact(tmp_path):

@@ -45,8 +45,9 @@ def test_visualize_without_display_says_so(monkeypatch, capsys, tooth_ply):
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     monkeypatch.setattr(sys, "platform", "linux")
-    assert main([tooth_ply, "-v"]) == 1
-    assert "no display" in capsys.readouterr().err
+    assert main([tooth_ply, "-v"]) == 2  # before computing, with what to use instead
+    err = capsys.readouterr().err
+    assert "needs a display" in err and "--screenshot" in err and "--html" in err
 
 
 def test_limits_without_zero_inside_are_refused(tmp_path, capsys, tooth_ply):

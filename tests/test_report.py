@@ -14,6 +14,7 @@ error, and a click opens a specimen's 3D view.
 from __future__ import annotations
 
 import base64
+import html
 import io
 import os
 import re
@@ -320,12 +321,17 @@ def test_the_page_in_chromium(collection, tmp_path):
 
 @needs_chromium
 def test_a_click_opens_the_3d_view(collection, tmp_path):
-    _, _, page = collection
-    dom, _ = _dom(tmp_path, page.as_uri() + "#view=3")  # the page clicks specimen 3's picture
+    _, table, page = collection
+    dom, _ = _dom(tmp_path, page.as_uri() + "#view=4")  # the page clicks specimen 4's picture
     status = _status(dom)
     assert status["ready"] == "yes" and status["errors"] == ""
     viewer = re.search(r'<div id="viewer"[^>]*>', dom).group(0)
-    assert "hidden" not in viewer and 'data-shown="3"' in viewer
+    assert "hidden" not in viewer and 'data-shown="4"' in viewer
+    # numbered from 1, as the table's "#" column: the fourth row of the table
+    fourth = os.path.basename(read_table(table)[3]["file"])
+    assert re.search(r'<td class="num" data-v="4">4</td>.*?' + re.escape(fourth), dom)
+    title = re.search(r'<b id="viewer-title">([^<]*)</b>', dom).group(1)
+    assert title.startswith(fourth)
     plot = re.search(r'<div id="viewer-plot"[^>]*>', dom).group(0)
     assert "js-plotly-plot" in plot
     viewer_plot = dom.split('id="viewer-plot"')[1].split('id="report-status"')[0]
@@ -345,7 +351,7 @@ def test_the_checks_see_a_broken_thumbnail_and_a_broken_payload(collection, tmp_
     text = re.sub(r'(id="mesh-3">)[^<]+', r"\1AAAA", text)
     broken = tmp_path / "broken.html"
     broken.write_text(text)
-    status = _status(_dom(tmp_path, broken.as_uri() + "#view=3")[0])
+    status = _status(_dom(tmp_path, broken.as_uri() + "#view=4")[0])  # row 4 is mesh-3
     assert status["thumbnails"] == "7/8"
     assert status["errors"] != ""
 
@@ -364,3 +370,109 @@ def test_a_worker_that_dies_costs_only_its_own_call():
     results = run_calls(_square_or_die, calls, 2, lambda call: f"died on {call[0]}")
     assert results == [4, "died on -1", 9, 16]
     assert run_calls(_square_or_die, calls[2:], 1, None) == [9, 16]  # one worker: this process
+
+
+@needs_chromium
+def test_a_view_past_the_table_says_so(collection, tmp_path):
+    _, _, page = collection
+    for wanted in ("10", "0", "x"):  # the table has 9 rows
+        dom, _ = _dom(tmp_path, page.as_uri() + "#view=" + wanted)
+        status = _status(dom)
+        assert status["ready"] == "yes" and status["errors"] == ""
+        viewer = re.search(r'<div id="viewer"[^>]*>', dom).group(0)
+        assert "hidden" not in viewer and "data-shown" not in viewer
+        message = re.search(r'<div id="viewer-message"[^>]*>([^<]*)</div>', dom).group(1)
+        assert f"No specimen {wanted}: the table has 9" in message
+        assert "#view=1 to #view=9" in message
+
+
+# --- every metric, at 1400 x 900
+
+
+@pytest.fixture(scope="module")
+def wide(collection):
+    """The collection computed with --metrics all (ten metric columns) and its report."""
+    root, _, _ = collection
+    table, page = root / "all.csv", root / "all.html"
+    code = main(
+        [str(root / "scans"), "-o", str(table), "--metrics", "all", "--report", str(page), "-q"]
+    )
+    assert code == 1  # the corrupt file
+    return table, page
+
+
+def test_every_metric_is_a_column_and_the_status_comes_before_them(wide):
+    table, page = wide
+    text = page.read_text()
+    head = re.search(r"<thead><tr>(.*?)</tr></thead>", text).group(1)
+    names = re.findall(r"<th[^>]*>([^<]*)</th>", head)
+    assert names[:5] == ["#", "map", "specimen", "group", "status, error"]
+    metrics = names[5:-1]
+    assert {"ariaDNE", "classic DNE convex", "OPCR", "OPC", "slope (\u00b0)"} <= set(metrics)
+    # RFI fails on these small crowns: a long error each, in the status cell next to the name
+    records = read_table(table)
+    partial = next(r for r in records if r["status"] == "partial")
+    assert len(partial["error"]) > 200
+    row = next(r for r in text.split("<tr ") if os.path.basename(partial["file"]) + "<" in r)
+    cell = re.search(r'<td class="status-cell"[^>]*>(.*?)</td>', row, flags=re.S).group(1)
+    assert "partial" in cell and 'class="error" title="' in cell
+    assert html.escape(partial["error"], quote=True) in cell  # all of it, cut only on screen
+    # the scatter matrix's chooser, one box per metric column, on short names explained
+    boxes = re.findall(r'<label><input type="checkbox" value="\d+" checked> ([^<]*)</label>', text)
+    assert len(boxes) == len(metrics) >= 9
+    assert boxes[:3] == ["aDNE", "aDNE+", "aDNE\u2212"]
+    assert "cDNE\u2212: classic DNE concave" in text
+
+
+@needs_chromium
+def test_at_1400_by_900_nothing_is_hidden(wide, tmp_path):
+    """The status column in view, no page wider than the window, the scatter matrix's
+    axis titles apart, and the 3D view's toolbar clear of its colour bar."""
+    _, page = wide
+    for address in ("", "#view=2"):
+        dom, _ = _dom(tmp_path, page.as_uri() + address, "--window-size=1400,900")
+        status = _status(dom)
+        assert status["ready"] == "yes" and status["errors"] == ""
+        assert status["layout"] == "", (address, status["layout"])
+        splom = dom[dom.index('<div id="splom"') : dom.index('<section id="problems"')]
+        chosen = len(re.findall(r'<input type="checkbox" value="\d+" checked', dom))
+        assert chosen >= 9 and f'data-metrics="{chosen}"' in splom[:300] and "<canvas" in splom
+        if address:
+            assert 'data-shown="2"' in re.search(r'<div id="viewer"[^>]*>', dom).group(0)
+            shown = dom.split('id="viewer-plot"')[1].split('id="report-status"')[0]
+            assert 'class="modebar' in shown and re.search(r'class="[^"]*\bcolorbar"', shown)
+
+
+@needs_chromium
+def test_the_layout_check_sees_what_it_checks(wide, tmp_path):
+    """The same page with the fixes undone (long axis titles, the viewer's toolbar on its
+    colour bar, a wide status column): the checks name each problem."""
+    _, page = wide
+    text = page.read_text()
+    text = re.sub(r'"short":"[^"]*"', '"short":"classic DNE concave"', text)
+    text = text.replace("margin: { l: 0, r: 0, t: 36, b: 0 }", "margin: { l: 0, r: 0, t: 0, b: 0 }")
+    text = text.replace("len: 0.9, y: 0.45", "len: 1")
+    text = text.replace("max-width: 260px;", "min-width: 1400px;")
+    broken = tmp_path / "undone.html"
+    broken.write_text(text)
+    dom, _ = _dom(tmp_path, broken.as_uri() + "#view=2", "--window-size=1400,900")
+    layout = _status(dom)["layout"]
+    assert "scatter matrix titles overlap" in layout
+    assert "toolbar over the colour bar" in layout
+    assert "page wider than the window" in layout
+
+
+def test_the_summary_says_1_group_not_1_groups(collection, tmp_path, capsys):
+    _, table, _ = collection
+    records = read_table(table)
+    groups = {r["file"]: "all" for r in records}
+    summary = write_report(table, tmp_path / "one.html", groups=groups, jobs=1)
+    assert summary.groups == ("all",)
+    text = (tmp_path / "one.html").read_text()
+    assert "9 specimens in 1 group (" in text and "1 groups" not in text
+    groups_file = tmp_path / "groups.csv"
+    groups_file.write_text("file,group\n" + "".join(f"{r['file']},all\n" for r in records))
+    argv = ["report", str(table), "-o", str(tmp_path / "cli.html"), "--groups", str(groups_file)]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "9 specimens in 1 group," in err and "1 groups" not in err

@@ -22,7 +22,7 @@ from ._version import __version__
 
 if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from .ariadne import AriaDNEResult, ariaDNE
-    from .batch import compute_batch, find_mesh_files, to_dataframe
+    from .batch import BatchResult, compute_batch, find_mesh_files, to_dataframe
     from .figures import (  # pyvista is imported only when a picture is drawn
         ColorScale,
         DisplayUnavailableError,
@@ -76,6 +76,7 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
 _EXPORTS = {
     "AriaDNEResult": ".ariadne",
     "ariaDNE": ".ariadne",
+    "BatchResult": ".batch",
     "compute_batch": ".batch",
     "find_mesh_files": ".batch",
     "to_dataframe": ".batch",
@@ -135,6 +136,7 @@ __all__ = [
     "AlphaAdjustmentError",
     "AriaDNEResult",
     "BandwidthSweep",
+    "BatchResult",
     "ClassicDNEResult",
     "ColorScale",
     "DisplayUnavailableError",

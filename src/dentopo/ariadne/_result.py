@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
+
 #: Scalar fields, in the order of output tables (after ``file``).
 SCALAR_FIELDS = (
     "dne",
@@ -95,3 +97,7 @@ class AriaDNEResult:
     def to_dict(self) -> dict:
         """The scalar fields as a plain dict (one row of a results table)."""
         return {name: getattr(self, name) for name in SCALAR_FIELDS}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="local_curvature")

@@ -13,6 +13,7 @@ May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topograph
 from ._inputs import FORMAT_PACKAGES, MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
 from ._interrupts import Interrupted, guard_interrupts
 from ._pool import run_pool
+from ._result import BatchResult, to_dataframe
 from ._runner import (
     Outcome,
     Settings,
@@ -31,12 +32,12 @@ from ._runner import (
     replaced_per_vertex_files,
     resumable_files,
     run_tasks,
-    to_dataframe,
 )
 
 __all__ = [
     "FORMAT_PACKAGES",
     "MESH_EXTENSIONS",
+    "BatchResult",
     "FoundInputs",
     "Interrupted",
     "Outcome",

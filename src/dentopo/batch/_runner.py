@@ -24,7 +24,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from functools import partial
 
-from .._optional import DASK, DATA_FRAMES, FAST_METHOD, MissingExtraError
+from .._optional import DASK, FAST_METHOD, MissingExtraError
 from ..ariadne import check_bandwidth, check_cutoff, check_distance_type, check_method
 from ..formats import (
     COLUMNS,
@@ -50,6 +50,7 @@ from ._inputs import find_mesh_files
 from ._interrupts import Interrupted, guard_interrupts
 from ._measure import Measurement, TopographyOptions, measure_mesh
 from ._pool import run_pool
+from ._result import BatchResult
 
 #: ``progress(done, total, record)`` is called after each file.
 ProgressCallback = Callable[[int, int, dict], None]
@@ -621,7 +622,7 @@ def compute_batch(
     per_vertex_limits: float | tuple[float, float] | None = None,
     per_vertex_percentile: float = 98.0,
     progress: ProgressCallback | None = None,
-) -> list[dict]:
+) -> BatchResult:
     """Compute ariaDNE (and molaR's topography metrics) for many mesh files; one record per file.
 
     Parameters
@@ -704,8 +705,11 @@ def compute_batch(
 
     Returns
     -------
-    list of dict
-        One record per file, sorted by file.  For ariaDNE alone, the keys of
+    BatchResult
+        A ``list`` of dicts, one record per file, sorted by file;
+        ``result.to_dataframe()`` makes it a pandas DataFrame in one call
+        (columns in table order; ``pandas.DataFrame(result)`` works too), and
+        a notebook shows it as a table.  For ariaDNE alone, the keys of
         :data:`dentopo.COLUMNS`: ``file``, the scalar fields of
         :class:`dentopo.AriaDNEResult`, ``seconds``, ``status`` (``"ok"`` or
         ``"error"``) and ``error`` (the reason, or None); other metrics add
@@ -730,9 +734,9 @@ def compute_batch(
 
     Examples
     --------
-    >>> from dentopo import compute_batch, to_dataframe
-    >>> records = compute_batch("scans/", jobs=0)  # doctest: +SKIP
-    >>> to_dataframe(records).set_index("file")["dne"]  # doctest: +SKIP
+    >>> from dentopo import compute_batch
+    >>> table = compute_batch("scans/", jobs=0).to_dataframe()  # doctest: +SKIP
+    >>> table.set_index("file")["dne"]  # doctest: +SKIP
     """
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
@@ -799,19 +803,4 @@ def compute_batch(
             warnings.warn(f"{outcome.record['file']}: {message}", UserWarning, stacklevel=2)
         if progress is not None:
             progress(count + 1, len(tasks), outcome.record)
-    return merge_records(previous, records)
-
-
-def to_dataframe(records: Iterable[dict]):
-    """The records of :func:`compute_batch` as a pandas DataFrame (columns in order).
-
-    Raises
-    ------
-    dentopo._optional.MissingExtraError
-        An ``ImportError``: pandas is not installed (``pip install 'dentopo[table]'``, in a clone
-        ``pip install '.[table]'``).
-    """
-    pd = DATA_FRAMES.require()
-    records = list(records)
-    keys = list(dict.fromkeys(key for record in records for key in record)) or list(COLUMNS)
-    return pd.DataFrame(records, columns=keys)
+    return BatchResult(merge_records(previous, records))

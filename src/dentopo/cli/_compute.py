@@ -578,6 +578,14 @@ def _picture_problem(args, metrics) -> str | None:
     return None
 
 
+#: Why ``--show`` cannot open its window here, and what to use instead.
+NO_DISPLAY = (
+    "--show needs a display and there is none here (DISPLAY and WAYLAND_DISPLAY are unset); "
+    "nothing was computed: save a picture with --screenshot FILE.png, or a 3D page to open "
+    "in a browser with --html FILE.html"
+)
+
+
 def _load_renderer():
     """The pictures package (pyvista is imported only when a picture is drawn), or None."""
     try:
@@ -819,6 +827,9 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         return 2
     render = _load_renderer() if rendering else None
     if rendering and render is None:
+        return 2
+    if args.show and not render.has_display():  # now, not after the meshes are computed
+        _say(NO_DISPLAY)
         return 2
 
     output = None

@@ -60,6 +60,10 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _plural(count: int, noun: str) -> str:
+    return f"{count} {noun}{'' if count == 1 else 's'}"
+
+
 def _default_output(table: str) -> str:
     return os.path.splitext(table)[0] + ".html"
 
@@ -78,8 +82,9 @@ def make_report(table, output: str, *, quiet: bool = False, **options) -> int:
         missing = summary.specimens - summary.pictured
         detail = f", {missing} without a picture" if missing else ""
         _say(
-            f"wrote {summary.path}: {summary.specimens} specimens in {len(summary.groups)} "
-            f"groups{detail}, {summary.size / 1e6:.1f} MB, {summary.seconds:.1f} s"
+            f"wrote {summary.path}: {_plural(summary.specimens, 'specimen')} in "
+            f"{_plural(len(summary.groups), 'group')}{detail}, {summary.size / 1e6:.1f} MB, "
+            f"{summary.seconds:.1f} s"
         )
     return 0
 

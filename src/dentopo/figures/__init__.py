@@ -29,6 +29,7 @@ from ._colors import (
 from ._provenance import read_provenance
 from ._render import (  # pyvista is imported only when a picture is drawn
     DisplayUnavailableError,
+    has_display,
     render_bandwidths,
     render_comparison,
     render_curvature,
@@ -59,6 +60,7 @@ __all__ = [
     "camera_for",
     "color_scale",
     "diverging_rgb",
+    "has_display",
     "read_provenance",
     "render_bandwidths",
     "render_comparison",

@@ -8,14 +8,18 @@ scatter matrix of the metrics coloured by group (plotly); the specimens that
 failed or have no picture, with why.  A click on a thumbnail, a name or a
 plotted point opens that specimen's 3D view, unpacked from its payload only
 then (``_payload``; the browser's ``DecompressionStream``); ``#view=N`` in the
-address opens specimen N on load.
+address opens specimen N, numbered from 1 as in the table's ``#`` column (a
+number past the table's end says so in the viewer).
 
 The page fetches nothing: a Content-Security-Policy forbids every request
 (images are ``data:`` URLs).  It allows inline scripts and ``eval``: plotly's
 WebGL plots (the scatter matrix) compile their drawing code at run time, and
 without it they show "WebGL is not supported" instead.  A small status
 element records for checks that the scripts ran (``data-ready``), how many
-thumbnails decoded, and any error reported to the console or left uncaught.
+thumbnails decoded, any error reported to the console or left uncaught, and
+what a reader could not see (``data-layout``: the status column past the
+window's edge, a page wider than the window, the scatter matrix's axis titles
+over each other, the 3D view's toolbar over its colour bar).
 
 Names are text wherever they appear: HTML-escaped in the table and lists, in
 the JSON block with ``<``, ``>`` and ``&`` escaped
@@ -40,6 +44,20 @@ from ..figures import ColorScale, diverging_rgb
 from ..figures._provenance import html_json
 from ._collect import METRIC_LABELS, Specimen
 from ._payload import COLOR_STEPS
+
+#: Short names of the metrics for the scatter matrix's axes, where ten of them share the width.
+SHORT_LABELS = {
+    "dne": "aDNE",
+    "positive_dne": "aDNE+",
+    "negative_dne": "aDNE\u2212",
+    "classic_dne": "cDNE",
+    "classic_convex_dne": "cDNE+",
+    "classic_concave_dne": "cDNE\u2212",
+    "rfi": "RFI",
+    "opcr": "OPCR",
+    "opc": "OPC",
+    "slope": "slope",
+}
 
 #: Group colours, in the order groups are listed (Tableau 10), repeated past ten groups.
 GROUP_COLORS = (
@@ -101,6 +119,11 @@ class PageContent:
     notes: list = field(default_factory=list)
 
 
+def plural(count: int, noun: str) -> str:
+    """``"1 group"``, ``"2 groups"``."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"
+
+
 def _number(value) -> float | None:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return None
@@ -156,7 +179,10 @@ def _data(content: PageContent) -> dict:
         for i, payload in content.payloads.items()
     }
     return {
-        "metrics": [{"key": k, "label": METRIC_LABELS.get(k, k)} for k in content.metrics],
+        "metrics": [
+            {"key": k, "label": METRIC_LABELS.get(k, k), "short": SHORT_LABELS.get(k, k)}
+            for k in content.metrics
+        ],
         "groups": list(content.groups),
         "colors": [GROUP_COLORS[i % len(GROUP_COLORS)] for i in range(len(content.groups))],
         "specimens": specimens,
@@ -187,16 +213,21 @@ def _row(s: Specimen, content: PageContent) -> str:
         )
     else:
         label = f'<span title="{esc(s.file)}">{name}</span>'
-    errors = [e for e in (s.error, f"no picture: {s.problem}" if s.problem else "") if e]
+    errors = esc(
+        "; ".join(e for e in (s.error, f"no picture: {s.problem}" if s.problem else "") if e)
+    )
+    # status and error next to the name, where a wide table cannot scroll them out of sight;
+    # a long error is cut to three lines here (all of it on hover and under "Failed specimens")
+    error = f'<div class="error" title="{errors}">{errors}</div>' if errors else ""
     cells = [
         f'<td class="num" data-v="{s.index + 1}">{s.index + 1}</td>',
         f'<td class="pic">{picture}</td>',
         f'<td data-v="{esc(s.name.lower())}">{label}</td>',
         f"<td>{esc(s.group)}</td>",
+        f'<td class="status-cell" data-v="{esc(s.status)}"><span class="status '
+        f'{esc(s.status)}">{esc(s.status)}</span>{error}</td>',
         *(_cell(s.record.get(key)) for key in content.metrics),
         _cell(s.record.get("vertices")),
-        f'<td class="status {esc(s.status)}">{esc(s.status)}</td>',
-        f'<td class="error">{esc("; ".join(errors))}</td>',
     ]
     return (
         f'<tr data-index="{s.index}" data-group="{esc(s.group)}" data-status="{esc(s.status)}">'
@@ -227,9 +258,9 @@ def _summary(content: PageContent) -> str:
     for s in content.specimens:
         counts[s.status] = counts.get(s.status, 0) + 1
     statuses = ", ".join(f"{n} {status}" for status, n in sorted(counts.items()))
-    groups = len(content.groups)
+    specimens = plural(len(content.specimens), "specimen")
     lines = [
-        f"{len(content.specimens)} specimens in {groups} group{'s' if groups != 1 else ''} "
+        f"{specimens} in {plural(len(content.groups), 'group')} "
         f"({statuses}), from {html.escape(content.source)}.",
         "Pictures: signed local curvature (ariaDNE, each row's settings), one colour scale "
         f"for the whole collection, {html.escape(content.scale.rule)}: "
@@ -252,13 +283,13 @@ def render_page(content: PageContent) -> str:
         '<th class="pic">map</th>',
         '<th data-sort="text">specimen</th>',
         '<th data-sort="text">group</th>',
+        '<th data-sort="text" class="status-cell">status, error</th>',
         *(
-            f'<th data-sort="num" title="{esc(key)}">{esc(METRIC_LABELS.get(key, key))}</th>'
+            f'<th data-sort="num" class="metric" title="{esc(key)}">'
+            f"{esc(METRIC_LABELS.get(key, key))}</th>"
             for key in content.metrics
         ),
         '<th data-sort="num">vertices</th>',
-        '<th data-sort="text">status</th>',
-        '<th data-sort="text">error</th>',
     ]
     rows = "\n".join(_row(s, content) for s in content.specimens)
     statuses = sorted({s.status for s in content.specimens})
@@ -267,7 +298,21 @@ def render_page(content: PageContent) -> str:
         for key in content.metrics
     )
     if len(content.metrics) >= 2:
-        splom = '<div id="splom" class="splom"></div>'
+        boxes = "".join(
+            f'<label><input type="checkbox" value="{m}" checked> '
+            f"{esc(SHORT_LABELS.get(key, key))}</label>"
+            for m, key in enumerate(content.metrics)
+        )
+        names = "; ".join(
+            f"{esc(SHORT_LABELS[key])}: {esc(METRIC_LABELS.get(key, key))}"
+            for key in content.metrics
+            if key in SHORT_LABELS and SHORT_LABELS[key] != METRIC_LABELS.get(key, key)
+        )
+        splom = (
+            f'<div id="splom-metrics" class="controls">plotted: {boxes}</div>'
+            + (f'<p class="legend">{names}.</p>' if names else "")
+            + '<div id="splom" class="splom"></div>'
+        )
     else:
         splom = "<p>A scatter matrix needs two metric columns or more.</p>"
     meshes = "\n".join(
@@ -325,7 +370,7 @@ nav a { margin-right: 12px; }
 .bar { display: flex; align-items: center; gap: 6px; margin: 6px 0 10px; font-size: 12px; }
 .bar .gradient { display: inline-block; width: 240px; height: 12px; background: %GRADIENT%; }
 .controls { display: flex; gap: 8px; align-items: center; margin-bottom: 8px; }
-.controls input { width: 320px; padding: 4px; }
+.controls input[type="search"] { width: 320px; padding: 4px; }
 table { border-collapse: collapse; width: 100%; }
 th, td { border-bottom: 1px solid #ddd; padding: 2px 6px; text-align: left; }
 th { position: sticky; top: 0; background: #f4f4f4; z-index: 1; }
@@ -339,9 +384,14 @@ button.link { color: #1a55b0; text-decoration: underline; font: inherit; text-al
 .nothumb { color: #888; font-size: 12px; }
 .status.error { color: #b00020; font-weight: 600; }
 .status.partial { color: #a06000; font-weight: 600; }
-td.error { color: #b00020; font-size: 12px; max-width: 420px; }
+td.status-cell { min-width: 60px; max-width: 260px; }
+td.status-cell .error { color: #b00020; font-size: 12px; display: -webkit-box;
+  -webkit-line-clamp: 3; -webkit-box-orient: vertical; overflow: hidden; }
+th.metric { white-space: normal; min-width: 48px; }
+#splom-metrics { flex-wrap: wrap; } #splom-metrics label { white-space: nowrap; }
+p.legend { color: #555; font-size: 12px; }
 .plots { display: grid; grid-template-columns: repeat(auto-fill, minmax(420px, 1fr)); gap: 8px; }
-.group-plot { height: 340px; } .splom { height: 760px; }
+.group-plot { height: 340px; } .splom { min-height: 300px; }
 #problem-list .path { color: #666; font-size: 12px; }
 #problem-list .error { color: #b00020; }
 #viewer { position: fixed; inset: 0; background: rgba(0,0,0,0.45); z-index: 10;
@@ -372,7 +422,8 @@ _VIEWER = """<div id="viewer" hidden><div class="viewer-box" role="dialog" aria-
 <div class="viewer-head"><b id="viewer-title"></b><button type="button" id="viewer-close">
 close (Esc)</button></div><div id="viewer-message" hidden></div><div id="viewer-plot"></div>
 </div></div>
-<div id="report-status" hidden data-ready="no" data-thumbnails="" data-errors=""></div>
+<div id="report-status" hidden data-ready="no" data-thumbnails="" data-errors="" data-layout="">
+</div>
 """
 
 _SCRIPT = r"""
@@ -460,14 +511,31 @@ function drawGroups() {
     }, PLOT_CONFIG);
     div.on("plotly_click", pickPoint);
   });
+  drawSplom();
+  const chooser = document.getElementById("splom-metrics");
+  if (chooser) chooser.addEventListener("change", drawSplom);
+}
+
+// The scatter matrix of the metrics ticked above it, on their short names (ten full names
+// would overlap); its height grows with the number of metrics, its cells kept near square.
+function drawSplom() {
   const splom = document.getElementById("splom");
   if (!splom) return;
+  const chosen = Array.from(
+    document.querySelectorAll("#splom-metrics input:checked"), (box) => Number(box.value));
+  Plotly.purge(splom);
+  splom.dataset.metrics = String(chosen.length);
+  if (chosen.length < 2) {
+    splom.textContent = "Tick two metrics or more for a scatter matrix.";
+    return;
+  }
+  splom.textContent = "";
   const traces = D.groups.map((name, g) => {
     const rows = D.specimens.filter((s) => s.group === g);
     return {
       type: "splom", name: plain(name),
-      dimensions: D.metrics.map((metric, m) => ({
-        label: plain(metric.label), values: rows.map((s) => s.values[m]),
+      dimensions: chosen.map((m) => ({
+        label: plain(D.metrics[m].short), values: rows.map((s) => s.values[m]),
       })),
       text: rows.map((s) => plain(s.name)), customdata: rows.map((s) => s.index),
       marker: { color: D.colors[g], size: 5, opacity: 0.8 },
@@ -475,9 +543,10 @@ function drawGroups() {
       hovertemplate: "%{text}<extra>%{fullData.name}</extra>",
     };
   });
+  const height = Math.max(320, Math.min(900, 110 * (chosen.length - 1) + 90));
   Plotly.newPlot(splom, traces, {
-    height: 760, dragmode: "select", legend: { title: { text: "group" } },
-    margin: { l: 70, r: 10, t: 20, b: 70 },
+    height: height, dragmode: "select", legend: { title: { text: "group" } },
+    margin: { l: 70, r: 10, t: 30, b: 70 },
   }, PLOT_CONFIG);
   splom.on("plotly_click", pickPoint);
 }
@@ -538,6 +607,14 @@ async function unpack(index) {
 const viewer = document.getElementById("viewer");
 const viewerPlot = document.getElementById("viewer-plot");
 const viewerMessage = document.getElementById("viewer-message");
+function showMessage(title, text) {
+  document.getElementById("viewer-title").textContent = title;
+  viewer.hidden = false;
+  Plotly.purge(viewerPlot);
+  viewerMessage.hidden = false;
+  viewerMessage.textContent = text;
+  delete viewer.dataset.shown;
+}
 async function openViewer(index) {
   const specimen = D.specimens.find((s) => s.index === Number(index));
   if (!specimen) return;
@@ -557,18 +634,37 @@ async function openViewer(index) {
     i: mesh.ijk[0], j: mesh.ijk[1], k: mesh.ijk[2],
     intensity: mesh.intensity, intensitymode: "vertex", colorscale: D.colorscale,
     cmin: -D.limit, cmax: D.limit, hoverinfo: "skip",
-    colorbar: { title: { text: "local curvature", side: "right" } },
+    colorbar: { title: { text: "local curvature", side: "right" }, len: 0.9, y: 0.45 },
     lighting: { ambient: 0.45, diffuse: 0.7, specular: 0.05, roughness: 0.9, fresnel: 0 },
   }], {
-    margin: { l: 0, r: 0, t: 0, b: 0 },
+    margin: { l: 0, r: 0, t: 36, b: 0 },  // the toolbar sits in the top margin, not on the bar
     scene: {
       aspectmode: "data",
       xaxis: { visible: false }, yaxis: { visible: false }, zaxis: { visible: false },
       camera: { eye: { x: 0, y: 0, z: 1.8 }, up: { x: 0, y: 1, z: 0 } },
     },
   }, PLOT_CONFIG);
-  viewer.dataset.shown = String(specimen.index);
+  viewer.dataset.shown = String(specimen.index + 1);  // its number in the table
 }
+
+// #view=N opens specimen N, numbered as in the table's "#" column (from 1).
+async function openFromAddress() {
+  const wanted = /^#view=(.*)$/.exec(location.hash);
+  if (!wanted) return;
+  const count = D.specimens.length;
+  const number = /^\d+$/.test(wanted[1]) ? Number(wanted[1]) : NaN;
+  if (!(number >= 1 && number <= count)) {
+    const range = count ? "#view=1 to #view=" + count : "no specimens";
+    showMessage("#view=" + wanted[1], "No specimen " + wanted[1] + ": the table has "
+      + count + " (" + range + ", numbered as in its # column).");
+    return;
+  }
+  const button = tbody.querySelector('button.open[data-index="' + (number - 1) + '"]');
+  if (button) button.click(); else await openViewer(number - 1);
+}
+window.addEventListener("hashchange", () => {
+  openFromAddress().catch((error) => window.reportErrors.push(String(error)));
+});
 function closeViewer() {
   viewer.hidden = true;
   Plotly.purge(viewerPlot);
@@ -587,15 +683,40 @@ function report() {
   const decoded = images.filter((img) => img.complete && img.naturalWidth > 0).length;
   status.dataset.thumbnails = decoded + "/" + images.length;
   status.dataset.errors = window.reportErrors.join(" | ");
+  status.dataset.layout = layoutProblems().join(" | ");
+}
+
+// What a reader could not see: a status or error column past the window's right edge, axis
+// titles of the scatter matrix over each other, the 3D view's toolbar over its colour bar.
+function overlap(a, b) {
+  return a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
+}
+function layoutProblems() {
+  const problems = [];
+  const width = document.documentElement.clientWidth;
+  const head = table.tHead.rows[0].querySelector("th.status-cell");
+  if (head && head.getBoundingClientRect().right > width) {
+    problems.push("status column out of view");
+  }
+  if (document.documentElement.scrollWidth > width + 1) problems.push("page wider than the window");
+  const titles = Array.from(
+    document.querySelectorAll('#splom g[class^="g-x"][class$="title"] text, '
+      + '#splom g[class^="g-y"][class$="title"] text'),
+    (text) => text.getBoundingClientRect()).filter((box) => box.width > 0);
+  if (titles.some((a, i) => titles.some((b, j) => j > i && overlap(a, b)))) {
+    problems.push("scatter matrix titles overlap");
+  }
+  const bar = viewerPlot.querySelector(".colorbar");
+  const tools = viewerPlot.querySelector(".modebar");
+  if (bar && tools && overlap(bar.getBoundingClientRect(), tools.getBoundingClientRect())) {
+    problems.push("toolbar over the colour bar");
+  }
+  return problems;
 }
 window.addEventListener("load", async () => {
   try {
     drawGroups();
-    const wanted = /^#view=(\d+)$/.exec(location.hash);
-    if (wanted) {
-      const button = tbody.querySelector('button.open[data-index="' + wanted[1] + '"]');
-      if (button) button.click(); else await openViewer(wanted[1]);
-    }
+    await openFromAddress();
   } catch (error) {
     window.reportErrors.push(String(error));
   }

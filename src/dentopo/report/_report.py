@@ -6,6 +6,7 @@ import os
 import time
 from dataclasses import dataclass
 
+from .._html_repr import result_html
 from .._optional import PICTURES, REPORT
 from ..batch import available_cores
 from ..figures import DEFAULT_PERCENTILE, color_scale
@@ -48,6 +49,10 @@ class ReportSummary:
     groups: tuple[str, ...]
     size: int
     seconds: float
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks."""
+        return result_html(self)
 
 
 def check_report_extras() -> None:

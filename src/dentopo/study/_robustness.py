@@ -54,6 +54,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from .._html_repr import rows_html
 from .._optional import DECIMATION, STUDY_FIGURES
 from ..ariadne import AriaDNEResult, ariaDNE, check_bandwidth
 from ..formats import atomic_write
@@ -373,6 +374,11 @@ class RobustnessStudy:
                 return row
         raise KeyError((perturbation, method))
 
+    def _repr_html_(self) -> str:
+        """Its rows as a compact table for notebooks."""
+        summary = {"perturbations": len(self.meshes), "bandwidth": self.bandwidth}
+        return rows_html(self.rows, title=type(self).__name__, summary=summary)
+
 
 def robustness_study(
     mesh,
@@ -493,6 +499,11 @@ class BandwidthSweep:
     @property
     def methods(self) -> list[str]:
         return list(dict.fromkeys(row["method"] for row in self.rows))
+
+    def _repr_html_(self) -> str:
+        """Its rows as a compact table for notebooks."""
+        summary = {"bandwidths": len(self.bandwidths), "methods": ", ".join(self.methods)}
+        return rows_html(self.rows, title=type(self).__name__, summary=summary)
 
 
 def bandwidth_sweep(

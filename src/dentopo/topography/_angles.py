@@ -32,6 +32,7 @@ from functools import cached_property
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from ..mesh import as_arrays
 from . import _kernels
 from ._orientation import TURN, Orientation, check_orient, find_orientation
@@ -341,6 +342,10 @@ class DoolkitSlopeResult:
         """The table field: ``{"slope_mean": ...}``."""
         return {name: getattr(self, name) for name in DOOLKIT_SLOPE_FIELDS}
 
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_slope")
+
 
 @dataclass(frozen=True)
 class InclinationResult:
@@ -372,6 +377,10 @@ class InclinationResult:
     def to_dict(self) -> dict:
         """The table field: ``{"inclin_mean": ...}``."""
         return {"inclin_mean": self.inclination_mean}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_inclination")
 
 
 # --- the metrics --------------------------------------------------------------------------

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from .._jit import njit
 from . import _vcg
 from ._surface import prepare_surface
@@ -54,6 +55,10 @@ class AngularityResult:
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``ANGULARITY_FIELDS``)."""
         return {name: getattr(self, name) for name in ANGULARITY_FIELDS}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_angularity")
 
 
 @njit(cache=True, inline="always")

@@ -20,6 +20,7 @@ from numbers import Real
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from . import _vcg
 from ._surface import molar_face_areas, molar_scale, prepare_surface
 
@@ -84,6 +85,10 @@ class ARCResult:
         """The scalar table fields as a plain dict (``ARC_FIELDS``)."""
         return {name: getattr(self, name) for name in ARC_FIELDS}
 
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_arc")
+
 
 @dataclass(frozen=True)
 class DoolkitARCResult:
@@ -125,6 +130,10 @@ class DoolkitARCResult:
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``DOOLKIT_ARC_FIELDS``)."""
         return {name: getattr(self, name) for name in DOOLKIT_ARC_FIELDS}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_arc")
 
 
 def check_range(value, *, probabilities: bool) -> tuple[float, float]:

@@ -17,6 +17,7 @@ from numbers import Real
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from . import _kernels
 from ._orientation import Orientation, check_orient
 from ._parameters import BOUNDARY_RULES, check_choice
@@ -126,6 +127,10 @@ class ClassicDNEResult:
     def to_dict(self) -> dict:
         """The scalar fields as a plain dict (one row of a results table)."""
         return {name: getattr(self, name) for name in CLASSIC_FIELDS}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_dne")
 
 
 def _check_real(name: str, value, *, low: float, high: float) -> float:

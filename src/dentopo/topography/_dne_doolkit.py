@@ -17,6 +17,7 @@ from numbers import Real
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from .._jit import njit
 from . import _vcg
 from ._surface import prepare_surface
@@ -69,6 +70,10 @@ class DoolkitDNEResult:
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``DOOLKIT_DNE_FIELDS``)."""
         return {name: getattr(self, name) for name in DOOLKIT_DNE_FIELDS}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_energy")
 
 
 @njit(cache=True)

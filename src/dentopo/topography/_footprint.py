@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._html_repr import result_html
 from .._jit import njit
 from . import _concaveman
 from ._orientation import Orientation, check_orient
@@ -82,6 +83,10 @@ class FootprintResult:
     def to_dict(self) -> dict:
         """The table field: ``{"area2d": area}`` (concave) or ``{"area2d_convex": area}``."""
         return {FOOTPRINT_FIELDS[self.hull]: self.area}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
 
 
 def check_hull(hull) -> str:

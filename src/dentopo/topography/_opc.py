@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from . import _kernels
 from ._metrics import rotation_key
 from ._metrics import rotations as opcr_rotations
@@ -112,6 +113,10 @@ class OPCResult:
         row.update({f"opc_bin{k}": n for k, n in enumerate(self.bin_counts, start=1)})
         return row
 
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
+
 
 @dataclass(frozen=True)
 class OPCRResult:
@@ -163,6 +168,10 @@ class OPCRResult:
         for rotation, value in zip(self.rotations, self.opc_values, strict=True):
             row[rotation_key(rotation)] = value
         return row
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
 
 
 # --- parameters ---------------------------------------------------------------------------

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from .._jit import njit
 from ._angles import DoolkitMesh, doolkit_mesh
 from ._kernels import _find
@@ -230,6 +231,10 @@ class DoolkitOPCResult:
         row.update({f"opc_bin{k}": n for k, n in enumerate(self.bins, start=1)})
         return row
 
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
+
 
 @dataclass(frozen=True)
 class DoolkitOPCRResult:
@@ -274,6 +279,10 @@ class DoolkitOPCRResult:
         row = {"opcr": self.opcr}
         row.update({f"opcr_rot{j}": n for j, n in enumerate(self.opc_values)})
         return row
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
 
 
 # --- the computation ----------------------------------------------------------------------

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from ._angles import DoolkitMesh, doolkit_mesh
 from ._footprint import check_hull, footprint_area
 from ._orientation import TURN, Orientation, check_orient
@@ -94,6 +95,10 @@ class ElevationResult:
         """The table field: ``{"elev_mean": ...}``."""
         return {"elev_mean": self.elevation_mean}
 
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_elevation")
+
 
 @dataclass(frozen=True)
 class ReliefIndexResult:
@@ -145,6 +150,10 @@ class ReliefIndexResult:
         """The table fields (:data:`RELIEF_INDEX_FIELDS`; ``area2d`` is the `hull` one)."""
         return {name: getattr(self, name) for name in RELIEF_INDEX_FIELDS}
 
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_slope")
+
 
 @dataclass(frozen=True)
 class ReliefRateResult:
@@ -180,6 +189,10 @@ class ReliefRateResult:
     def to_dict(self) -> dict:
         """``{"rrate_below_median": ...}`` for the median crop, else ``{"rrate": ...}``."""
         return {"rrate_below_median" if self.below_median else "rrate": self.rrate}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
 
 
 @dataclass(frozen=True)
@@ -219,6 +232,10 @@ class ShapeIndexResult:
             "shape_k": self.k,
         }
 
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
+
 
 @dataclass(frozen=True)
 class HypsodontyResult:
@@ -249,6 +266,10 @@ class HypsodontyResult:
             "hypso_length": self.length,
             "hypso_width": self.width,
         }
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
 
 
 # --- the metrics --------------------------------------------------------------------------

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from ._alphahull import FAN_INSIDE, FAN_UNDEFINED, AlphaHull, Arcs, chain
 from ._orientation import Orientation, check_orient
 from ._parameters import check_alpha, check_find_alpha
@@ -132,6 +133,10 @@ class RFIResult:
     def to_dict(self) -> dict:
         """The table fields (:data:`RFI_FIELDS`) as a plain dict."""
         return {name: getattr(self, name) for name in RFI_FIELDS}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self)
 
 
 def molar_area_3d(vertices: np.ndarray, faces: np.ndarray) -> float:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from .._html_repr import result_html
 from . import _kernels
 from ._orientation import Orientation, check_orient
 from ._surface import prepare_surface
@@ -62,6 +63,10 @@ class SlopeResult:
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``{"slope": ...}``)."""
         return {name: getattr(self, name) for name in SLOPE_FIELDS}
+
+    def _repr_html_(self) -> str:
+        """A compact table for notebooks: values, settings, arrays summarised."""
+        return result_html(self, histogram="face_slope")
 
 
 def face_slopes(normals: np.ndarray) -> np.ndarray:
