@@ -26,7 +26,7 @@ import dentopo  # noqa: E402
 
 project = "dentopo"
 author = "dentopo developers"
-copyright = "dentopo developers"  # noqa: A001 (Sphinx's name)
+copyright = "dentopo developers"
 release = dentopo.__version__
 version = release
 
@@ -112,10 +112,8 @@ _SOURCE_SUFFIXES = (".md", ".ipynb", ".rst")
 
 def _further_pages(docname: str, pattern: str, listed: set[str]) -> bool:
     folder = (DOCS / docname).parent
-    return any(
-        p.suffix in _SOURCE_SUFFIXES and p.relative_to(folder).with_suffix("").as_posix() not in listed
-        for p in folder.glob(pattern)
-    )
+    pages = (p for p in folder.glob(pattern) if p.suffix in _SOURCE_SUFFIXES)
+    return any(p.relative_to(folder).with_suffix("").as_posix() not in listed for p in pages)
 
 
 def _drop_empty_globs(app, docname: str, source: list[str]) -> None:

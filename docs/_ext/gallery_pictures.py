@@ -19,7 +19,7 @@ def png_files(block, block_vars, gallery_conf) -> str:
     folder = Path(block_vars["src_file"]).parent
     written = sorted(folder.glob("*.png"), key=lambda p: p.stat().st_mtime)
     images = []
-    for picture, target in zip(written, block_vars["image_path_iterator"]):
+    for picture, target in zip(written, block_vars["image_path_iterator"], strict=False):
         shutil.move(picture, target)
         images.append(target)
     return figure_rst(images, gallery_conf["src_dir"])

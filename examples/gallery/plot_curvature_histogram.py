@@ -18,7 +18,7 @@ from dentopo import ariaDNE, color_scale
 from dentopo.samples import sample_paths
 
 fig, axes = plt.subplots(1, 3, figsize=(9, 3), sharey=True, layout="constrained")
-for ax, name in zip(axes, ["tooth", "sphere", "saddle"]):
+for ax, name in zip(axes, ["tooth", "sphere", "saddle"], strict=True):
     result = ariaDNE(sample_paths()[name])
     k = result.local_curvature
     scale = color_scale(k)
