@@ -1,4 +1,4 @@
-"""Every example on docs/migrating-from-signDNE.md runs.
+"""Every example on docs/coming-from/signdne.md runs.
 
 Each ```python block is executed on its own, in a fresh namespace, in a temporary
 directory holding the sample crown as ``tooth.ply``; each ```bash block's
@@ -20,7 +20,7 @@ from dentopo.cli import main
 from dentopo.cli._compute import build_parser
 from dentopo.samples import tooth
 
-PAGE = Path(__file__).resolve().parents[1] / "docs" / "migrating-from-signDNE.md"
+PAGE = Path(__file__).resolve().parents[1] / "docs" / "coming-from" / "signdne.md"
 
 #: The published CLI's columns, in its order (signDNE 0.1.4, ``create_dataframe``).
 SIGNDNE_COLUMNS = [

@@ -11,7 +11,7 @@ returns the same tuple in the same order, computed by :func:`dentopo.ariaDNE`::
     (local_dne, local_curvature, dne, positive_dne, negative_dne,
      surface_area, positive_surface_area, negative_surface_area) = signDNE(mesh)
 
-What differs, and why (docs/migrating-from-signDNE.md has the whole story):
+What differs, and why (docs/coming-from/signdne.md has the whole story):
 
 * **Your mesh is not modified.**  The published function cleans, centres and
   rescales the mesh it is given, in place, so that afterwards its vertices are
