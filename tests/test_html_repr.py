@@ -221,6 +221,12 @@ def test_the_helpers_summarise_and_escape():
     _check_html(text)
 
 
+def test_other_fields_are_described_not_dumped():
+    text = _summary()._repr_html_()
+    assert "<b>r.html</b>" in text  # no table fields: the first scalar leads
+    assert "<th>problems</th><td>1 entry</td>" in text
+
+
 def test_result_html_never_modifies_the_result(crown):
     result = dentopo.slope(crown)
     before = result.face_slope.copy()

@@ -145,9 +145,9 @@ def _describe(value: object) -> str | None:
             else (f"{type(value).__name__}: {counts}")
         )
     if isinstance(value, Mapping):
-        return f"{len(value)} entries"
+        return f"{len(value)} {'entry' if len(value) == 1 else 'entries'}"
     if isinstance(value, (list, Sequence)) and not isinstance(value, str):
-        return f"{len(value)} items"
+        return f"{len(value)} {'item' if len(value) == 1 else 'items'}"
     text = str(value)
     return text if len(text) <= 200 else text[:200] + "..."
 
