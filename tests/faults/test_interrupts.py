@@ -374,6 +374,9 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     for metric in (slope, opcr, classic_dne):
         metric(crown)
     rfi(crown, find_alpha=True)
+    from dentopo.topography._delaunay import delaunay
+
+    delaunay(np.random.default_rng(0).random((200, 2)))  # general points: every certificate
     from dentopo import topography
 
     for name in (
