@@ -335,16 +335,42 @@ def _select(centres, perm, axis, a, b, k):
 PARALLEL_BUILD = 200_000
 
 
-@njit(cache=True, parallel=True)
-def _kd_order(centres, link, lo, hi, level, perm):
+#: Levels of the hierarchy each compiled call of the build (``_kd_order``, ``_summarise``)
+#: does: each level's nodes together hold every item once, so a level is about a tenth
+#: of a second on 2.6M faces, and Python reacts to Ctrl-C and SIGTERM between calls.
+LEVELS_PER_CALL = 1
+
+
+def _by_levels(count: int, per_call: int | None, call, reverse: bool = False) -> None:
+    """``call(first, last)`` for the levels ``0:count`` in slices of `per_call`."""
+    per_call = max(1, int(LEVELS_PER_CALL if per_call is None else per_call))
+    starts = range(0, count, per_call)
+    for first in reversed(starts) if reverse else starts:
+        call(first, min(count, first + per_call))
+
+
+def _kd_order(centres, link, lo, hi, level, perm, per_call=None):
     """Split each inner node's items at its middle along the longest side of their box.
 
-    Rows of `centres` are moved and `perm` alike; level by level, the nodes of a
-    level in parallel on large meshes (each owns its rows: the order does not
-    depend on the threads).  Nothing is returned (see ``_layout``).
+    Rows of `centres` are moved and `perm` alike, level by level, in calls of
+    `per_call` levels (``LEVELS_PER_CALL``; the nodes of a level are
+    independent, so the order does not depend on the slices).
+    """
+    _by_levels(
+        len(level) - 1,
+        per_call,
+        lambda first, last: _kd_levels(centres, link, lo, hi, level, perm, first, last),
+    )
+
+
+@njit(cache=True, parallel=True)
+def _kd_levels(centres, link, lo, hi, level, perm, first, last):
+    """``_kd_order`` for the levels ``first:last``: the nodes of a level in parallel on
+    large meshes (each owns its rows: the order does not depend on the threads).
+    Nothing is returned (see ``_layout``).
     """
     parallel = centres.shape[0] >= PARALLEL_BUILD
-    for depth in range(level.shape[0] - 1):
+    for depth in range(first, last):
         if parallel and level[depth + 1] - level[depth] > 1:
             for node in prange(level[depth], level[depth + 1]):
                 _kd_split(centres, link, lo, hi, perm, node)
@@ -473,8 +499,7 @@ def _store(sums, node, nodes, packed):
         packed[node, _MOMENT + k] = sums[7 + k]
 
 
-@njit(cache=True, parallel=True)
-def _summarise(tri, lo, hi, link, level, nodes, packed, weight):
+def _summarise(tri, lo, hi, link, level, nodes, packed, weight, per_call=None):
     """Each node's area-weighted centre, radius, summed area vector and first moment.
 
     The radius is that of the sphere about the centre holding all the node's
@@ -484,11 +509,32 @@ def _summarise(tri, lo, hi, link, level, nodes, packed, weight):
     node's from its children's (``weight``, the caller's float32 array, carries
     their areas; any centre will do, as long as the radius and moments are
     taken about the centre stored); then each level's radii, one
-    pass over the triangles, its nodes in parallel on large meshes.  Nothing is
-    returned (see ``_layout``).
+    pass over the triangles.  In calls of `per_call` levels
+    (``LEVELS_PER_CALL``): a level needs only the one below it.
+    """
+    depths = len(level) - 1
+    _by_levels(
+        depths,
+        per_call,
+        lambda first, last: _combine_levels(
+            tri, lo, hi, link, level, nodes, packed, weight, first, last
+        ),
+        reverse=True,
+    )
+    _by_levels(
+        depths,
+        per_call,
+        lambda first, last: _radius_levels(tri, lo, hi, link, level, nodes, packed, first, last),
+    )
+
+
+@njit(cache=True, parallel=True)
+def _combine_levels(tri, lo, hi, link, level, nodes, packed, weight, first, last):
+    """The sums of the nodes of levels ``first:last``, the deepest first (``_combine``);
+    a level's nodes in parallel on large meshes.  Nothing is returned (see ``_layout``).
     """
     parallel = tri.shape[0] >= PARALLEL_BUILD
-    for depth in range(level.shape[0] - 2, -1, -1):
+    for depth in range(last - 1, first - 1, -1):
         if parallel and level[depth + 1] - level[depth] > 1:
             for node in prange(level[depth], level[depth + 1]):
                 _combine(tri, lo, hi, link, nodes, packed, weight, node, np.empty(13))
@@ -496,7 +542,16 @@ def _summarise(tri, lo, hi, link, level, nodes, packed, weight):
             sums = np.empty(13)
             for node in range(level[depth], level[depth + 1]):
                 _combine(tri, lo, hi, link, nodes, packed, weight, node, sums)
-    for depth in range(level.shape[0] - 1):
+
+
+@njit(cache=True, parallel=True)
+def _radius_levels(tri, lo, hi, link, level, nodes, packed, first, last):
+    """The radii of the inner nodes of levels ``first:last`` (``_inner_radius``).
+
+    Nothing is returned (see ``_layout``).
+    """
+    parallel = tri.shape[0] >= PARALLEL_BUILD
+    for depth in range(first, last):
         if parallel and level[depth + 1] - level[depth] > 1:
             for node in prange(level[depth], level[depth + 1]):
                 _inner_radius(tri, lo, hi, link, nodes, packed, node)
