@@ -167,3 +167,56 @@ def test_every_file_failing_keeps_the_old_table_and_says_so(tmp_path, table):
     assert ran.returncode == 1, ran.describe()
     assert "no mesh was computed (every file failed)" in ran.stderr, ran.describe()
     assert table.read_bytes() == before
+
+
+# --- the study commands' output folder ---------------------------------------------------------
+# Before the fix ``dentopo sweep normal.ply -o normal.ply`` computed every bandwidth and then
+# failed to create the folder (exit 1); a folder holding an input under a name the study
+# writes was not checked at all.
+
+
+@pytest.mark.parametrize("command", ["sweep", "robustness"])
+def test_a_study_folder_that_is_the_input_mesh_is_refused_before_computing(mesh, command):
+    before = mesh.read_bytes()
+    ran = dentopo(command, str(mesh), "-o", str(mesh), "--no-figures", "--sign-method", "centroid")
+    assert_refused(ran, str(mesh), "is the input mesh")
+    assert "dentopo " + command in ran.stderr, ran.describe()
+    assert mesh.read_bytes() == before
+
+
+def test_a_study_folder_holding_a_perturbation_under_the_tables_name_is_refused(mesh, tmp_path):
+    folder = tmp_path / "study"
+    folder.mkdir()
+    kept = folder / "robustness.csv"  # a perturbation where the table would go
+    kept.write_bytes(mesh.read_bytes())
+    ran = dentopo(
+        "robustness",
+        str(mesh),
+        "--perturbation",
+        f"same={kept}",
+        "-o",
+        str(folder),
+        "--no-figures",
+    )
+    assert_refused(ran, str(kept), "is the perturbation 'same'")
+    assert kept.read_bytes() == mesh.read_bytes()
+
+
+def test_a_study_figure_that_is_the_input_reached_through_a_link_is_refused(mesh, tmp_path):
+    folder = tmp_path / "sweep"
+    folder.mkdir()
+    (folder / "sweep.png").symlink_to(mesh)
+    before = mesh.read_bytes()
+    ran = dentopo("sweep", str(mesh), "-o", str(folder), "-b", "0.08")
+    assert ran.returncode == 2, ran.describe()
+    assert "is the input mesh" in ran.stderr and "sweep.png" in ran.stderr, ran.describe()
+    assert mesh.read_bytes() == before
+    assert not (folder / "sweep.csv").exists()
+
+
+def test_a_study_folder_that_is_a_file_is_refused_before_computing(mesh, tmp_path):
+    other = tmp_path / "notes.txt"
+    other.write_text("mine\n")
+    ran = dentopo("sweep", str(mesh), "-o", str(other), "--no-figures", "-b", "0.08")
+    assert_refused(ran, str(other), "is not a directory")
+    assert other.read_text() == "mine\n"

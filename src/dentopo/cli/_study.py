@@ -3,15 +3,20 @@
 The figures need the ``study`` extra (matplotlib), checked before anything is
 computed unless ``--no-figures``; generated perturbations need it too
 (fast-simplification decimates), which the study checks before computing.  A
-missing extra ends as one line naming it, with exit code 2.
+missing extra ends as one line naming it, with exit code 2.  So does an output
+folder that is an input (the mesh, a perturbation) or that holds one under a
+name the study writes, or that cannot be written: checked before computing,
+as the main command's outputs are (``_output.output_problem``).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 
 from .._optional import STUDY_FIGURES, MissingExtraError
 from ..sign import SIGN_METHODS
+from ._output import Planned, output_problem
 from ._streams import write_stderr
 
 
@@ -120,9 +125,23 @@ def _bandwidths_ok(prog: str, bandwidths) -> bool:
     return True
 
 
+def _folder_problem(prog: str, folder: str, names, inputs) -> bool:
+    """Say so and return True if the files `names` cannot be written into `folder`.
+
+    `inputs` are ``(what, path)``: an output folder that is one of them, or
+    whose file of one of `names` is, would replace it.
+    """
+    planned = [Planned("--output", folder, check=True, folder=True)]
+    planned += [Planned(f"{name} in --output", os.path.join(folder, name)) for name in names]
+    problem = output_problem(planned, inputs)
+    if problem:
+        _err(f"{prog}: {problem}")
+    return problem is not None
+
+
 def robustness_main(argv: list[str]) -> int:
     """Run ``dentopo robustness ARGS``; the exit code."""
-    from ..study import robustness_study, write_study
+    from ..study import STUDY_FILES, robustness_study, write_study
 
     args = _robustness_parser().parse_args(argv)
     if not _bandwidths_ok("dentopo robustness", [args.bandwidth]):
@@ -137,6 +156,11 @@ def robustness_main(argv: list[str]) -> int:
                 return 2
             perturbations[name] = path
     if _missing_figures("dentopo robustness", not args.no_figures):
+        return 2
+    inputs = [("the input mesh", args.mesh)]
+    inputs += [(f"the perturbation {name!r}", path) for name, path in (perturbations or {}).items()]
+    names = STUDY_FILES if not args.no_figures else STUDY_FILES[:1]
+    if _folder_problem("dentopo robustness", args.output, names, inputs):
         return 2
     options = {}
     if perturbations is None:
@@ -175,12 +199,15 @@ def robustness_main(argv: list[str]) -> int:
 
 def sweep_main(argv: list[str]) -> int:
     """Run ``dentopo sweep ARGS``; the exit code."""
-    from ..study import SWEEP_COLUMNS, SWEEP_METHODS, bandwidth_sweep, write_sweep
+    from ..study import SWEEP_COLUMNS, SWEEP_FILES, SWEEP_METHODS, bandwidth_sweep, write_sweep
 
     args = _sweep_parser().parse_args(argv)
     if not _bandwidths_ok("dentopo sweep", args.bandwidths):
         return 2
     if _missing_figures("dentopo sweep", not args.no_figures):
+        return 2
+    names = SWEEP_FILES if not args.no_figures else SWEEP_FILES[:1]
+    if _folder_problem("dentopo sweep", args.output, names, [("the input mesh", args.mesh)]):
         return 2
     try:
         sweep = bandwidth_sweep(

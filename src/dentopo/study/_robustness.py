@@ -584,6 +584,12 @@ def _figure_bytes(figure) -> bytes:
     return buffer.getvalue()
 
 
+#: The files :func:`write_study` writes into its directory: the table, then the figures.
+STUDY_FILES = ("robustness.csv", "robustness_signs.png", "robustness_totals.png")
+#: ... and :func:`write_sweep`.
+SWEEP_FILES = ("sweep.csv", "sweep.png")
+
+
 def write_study(
     study: RobustnessStudy, directory: str | os.PathLike, *, figures: bool = True
 ) -> list[Path]:
@@ -611,7 +617,7 @@ def write_study(
         STUDY_FIGURES.require()
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    table = directory / "robustness.csv"
+    table = directory / STUDY_FILES[0]
     _atomic_write_bytes(table, _csv_bytes(study.rows, STUDY_COLUMNS))
     written = [table]
     if figures:
@@ -622,8 +628,8 @@ def write_study(
             method: [study.results[name, method] for name in columns] for method in study.methods
         }
         for filename, figure in (
-            ("robustness_signs.png", sign_grid(grid, columns)),
-            ("robustness_totals.png", totals_bars(study.rows, columns, study.methods)),
+            (STUDY_FILES[1], sign_grid(grid, columns)),
+            (STUDY_FILES[2], totals_bars(study.rows, columns, study.methods)),
         ):
             _atomic_write_bytes(directory / filename, _figure_bytes(figure))
             written.append(directory / filename)
@@ -642,7 +648,7 @@ def write_sweep(
         STUDY_FIGURES.require()
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    table = directory / "sweep.csv"
+    table = directory / SWEEP_FILES[0]
     _atomic_write_bytes(table, _csv_bytes(sweep.rows, SWEEP_COLUMNS))
     written = [table]
     if figures:
@@ -653,6 +659,6 @@ def write_sweep(
         }
         labels = [f"h = {h:g}" for h in sweep.bandwidths]
         figure = sign_grid(grid, labels)
-        _atomic_write_bytes(directory / "sweep.png", _figure_bytes(figure))
-        written.append(directory / "sweep.png")
+        _atomic_write_bytes(directory / SWEEP_FILES[1], _figure_bytes(figure))
+        written.append(directory / SWEEP_FILES[1])
     return written
