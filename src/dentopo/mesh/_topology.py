@@ -110,43 +110,14 @@ _RUN = 16
 def sort_ints(values):  # pragma: no cover
     """Sort `values` (1-D, integers) in place, ascending: ``values[:] = np.sort(values)``.
 
-    A bottom-up merge sort over insertion-sorted runs.  numba's own ``np.sort``
-    gives the same array (integers sort one way only) but takes seconds to
-    compile into each kernel that uses it, on every fresh install; this takes a
-    fraction of a second, once.
+    By :func:`stable_order` (integers sort one way only, so its order gives
+    numpy's array).  numba's own ``np.sort`` takes seconds to compile into each
+    kernel that uses it, on every fresh install; this takes a fraction of a
+    second, once.
     """
-    n = values.shape[0]
-    for lo in range(0, n, _RUN):
-        hi = min(lo + _RUN, n)
-        for k in range(lo + 1, hi):
-            x = values[k]
-            j = k - 1
-            while j >= lo and values[j] > x:
-                values[j + 1] = values[j]
-                j -= 1
-            values[j + 1] = x
-    if n <= _RUN:
-        return
-    src = values
-    dst = np.empty_like(values)
-    width = _RUN
-    while width < n:
-        for lo in range(0, n, 2 * width):
-            mid = min(lo + width, n)
-            hi = min(lo + 2 * width, n)
-            i = lo
-            j = mid
-            for k in range(lo, hi):
-                if j >= hi or (i < mid and src[i] <= src[j]):
-                    dst[k] = src[i]
-                    i += 1
-                else:
-                    dst[k] = src[j]
-                    j += 1
-        src, dst = dst, src
-        width *= 2
-    if src is not values:
-        values[:] = src
+    order = np.empty(values.shape[0], np.int64)
+    stable_order(values, order)
+    values[:] = values[order]
 
 
 @njit(cache=True)
@@ -154,8 +125,8 @@ def stable_order(key, order):  # pragma: no cover
     """``order[:] = np.argsort(key, kind="stable")`` for a 1-D integer `key`; `order` int64.
 
     A stable merge sort of the indices (equal keys keep their order, so the
-    result is the one ``kind="stable"`` gives), for the reason given in
-    :func:`sort_ints`.
+    result is the one ``kind="stable"`` gives) over insertion-sorted runs, for
+    the reason given in :func:`sort_ints`.
     """
     n = key.shape[0]
     for k in range(n):
