@@ -328,3 +328,24 @@ def test_a_batch_row_names_the_preparation_error_for_every_metric():
     assert measurement.status == "error"
     assert set(measurement.errors) == {"classic", "slope"}
     assert all("no face of non-zero area" in reason for reason in measurement.errors.values())
+
+
+@pytest.mark.parametrize(("factor", "why"), [(1e-10, "too small"), (1e12, "too large")])
+def test_coordinates_out_of_single_precisions_range_are_an_error_naming_the_scale(
+    tooth, factor, why
+):
+    # before: a crown scaled by 1e-10 gave a slope of 48 (42 at any sane scale), an RFI of
+    # 0.55 (1.38) and doolkit's DNE 19 (55), all as ok; by 1e12, NaN and inf; doolkit's
+    # inclination turned a crown scaled by 1e-12 upside down (float32 volumes of zero)
+    from dentopo.topography import doolkit_dne, inclination, relief_index
+
+    scaled = trimesh.Trimesh(np.asarray(tooth.vertices) * factor, tooth.faces, process=False)
+    for metric in (slope, relief_index, inclination, doolkit_dne):
+        with pytest.raises(ValueError, match=f"{why} for single-precision.*rescale"):
+            metric(scaled)
+
+
+@pytest.mark.parametrize("factor", [1e-7, 1e8])  # metres to kilometres, millimetres to nm
+def test_coordinates_near_single_precisions_limits_still_measure_the_crown(tooth, factor):
+    scaled = trimesh.Trimesh(np.asarray(tooth.vertices) * factor, tooth.faces, process=False)
+    assert slope(scaled).slope == pytest.approx(slope(tooth).slope, rel=1e-6)
