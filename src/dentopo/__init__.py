@@ -8,7 +8,7 @@ mean slope, OPC, OPCR and RFI are computed as molaR 6.0 computes them
 
 The package is layered; each subpackage's docstring says what it holds and
 what it may import, and the arrows run one way, from the bottom up:
-``mesh`` < ``sign`` < ``ariadne`` < ``topography`` < ``figures`` < ``formats``
+``mesh`` < ``sign`` < ``ariadne`` < ``topography`` < ``prepare`` < ``figures`` < ``formats``
 < ``batch`` < ``study`` < ``cli``.
 
 >>> from dentopo import ariaDNE
@@ -19,6 +19,8 @@ what it may import, and the arrows run one way, from the bottom up:
 from typing import TYPE_CHECKING
 
 from ._version import __version__
+from .prepare import prepare  # light: the steps load on the first call
+
 
 if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from .ariadne import AriaDNEResult, ariaDNE
@@ -39,6 +41,7 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     )
     from .formats import COLUMNS, read_per_vertex, read_table, write_per_vertex, write_table
     from .mesh import load_mesh
+    from .prepare import PreparedCrown, PrepareWarning, Protocol, ProtocolError, Step
     from .report import ReportSummary, write_report
     from .sign import curvature_measure, curvature_measure_sign, measure_radius
     from .study import (
@@ -98,6 +101,11 @@ _EXPORTS = {
     "write_per_vertex": ".formats",
     "write_table": ".formats",
     "load_mesh": ".mesh",
+    "PreparedCrown": ".prepare",
+    "PrepareWarning": ".prepare",
+    "Protocol": ".prepare",
+    "ProtocolError": ".prepare",
+    "Step": ".prepare",
     "ReportSummary": ".report",
     "write_report": ".report",
     "curvature_measure": ".sign",
@@ -145,10 +153,15 @@ __all__ = [
     "OPCRResult",
     "OPCResult",
     "Orientation",
+    "PrepareWarning",
+    "PreparedCrown",
+    "Protocol",
+    "ProtocolError",
     "RFIResult",
     "ReportSummary",
     "RobustnessStudy",
     "SlopeResult",
+    "Step",
     "__version__",
     "arc",
     "ariaDNE",
@@ -166,6 +179,7 @@ __all__ = [
     "opc",
     "opcr",
     "perturb",
+    "prepare",
     "read_per_vertex",
     "read_table",
     "render_bandwidths",
