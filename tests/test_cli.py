@@ -538,3 +538,37 @@ def test_phases_of_a_slow_mesh_are_reported(tmp_path, capsys, monkeypatch):
     err = capsys.readouterr().err
     for phase in ("prepare", "kernel", "bending", "sign", "totals"):
         assert f"crown.ply: {phase} (" in err
+
+
+def test_two_value_options_take_one_comma_separated_word_too(tmp_path):
+    """``--arc-range 0.05,0.95`` (as the R and MATLAB bridges pass a vector) is the pair."""
+    from dentopo.cli._compute import split_pairs
+    from dentopo.samples import write_samples
+
+    assert split_pairs(["--arc-range", "0.05,0.95", "x.ply"]) == [
+        "--arc-range",
+        "0.05",
+        "0.95",
+        "x.ply",
+    ]
+    assert split_pairs(["--limits=-1,1", "--size", "640", "480"]) == [
+        "--limits",
+        "-1",
+        "1",
+        "--size",
+        "640",
+        "480",
+    ]
+    assert split_pairs(["--", "--arc-range", "a,b"]) == ["--", "--arc-range", "a,b"]
+    tooth = str(write_samples(tmp_path)[0])
+    values = {}
+    for name, words in {
+        "comma": ["--arc-range", "0.2,0.8"],
+        "two": ["--arc-range", "0.2", "0.8"],
+        "default": [],
+    }.items():
+        out = tmp_path / f"{name}.csv"
+        assert main([tooth, "--metrics", "arc", "-o", str(out), "-q", *words]) == 0
+        values[name] = read_table(out)[0]["arc"]
+    assert values["comma"] == values["two"] != values["default"]
+    assert main([tooth, "--metrics", "arc", "--arc-range", "0.2,0.8,0.9", "-q"]) == 2

@@ -21,7 +21,6 @@ from typing import TYPE_CHECKING
 from ._version import __version__
 from .prepare import prepare  # light: the steps load on the first call
 
-
 if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from .ariadne import AriaDNEResult, ariaDNE
     from .batch import BatchResult, compute_batch, find_mesh_files, to_dataframe

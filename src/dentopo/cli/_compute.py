@@ -729,11 +729,39 @@ def _metric_parameters(metric: str, args) -> dict:
     return parameters
 
 
+#: Options that take two values; each also takes them as one word, ``LOW,HIGH``.
+PAIRS = ("--arc-range", "--limits", "--size", "--window-size")
+
+
+def split_pairs(argv: list[str]) -> list[str]:
+    """`argv` with ``--arc-range 0.05,0.95`` (or ``--arc-range=0.05,0.95``) as two words.
+
+    The R and MATLAB bridges pass a vector as one comma-separated value, as
+    every other list option of the command takes it (``--metrics``, ``--up``).
+    """
+    out: list[str] = []
+    words = iter(argv)
+    for word in words:
+        option, equals, value = word.partition("=")
+        if option in PAIRS and equals and "," in value:
+            out += [option, *value.split(",", 1)]
+            continue
+        out.append(word)
+        if word == "--":
+            out += list(words)
+            break
+        if word in PAIRS:
+            value = next(words, None)
+            if value is not None:
+                out += value.split(",", 1) if "," in value else [value]
+    return out
+
+
 def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
     """Run the main command with `argv`; the exit code."""
     parser = build_parser(subcommands)
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(split_pairs(argv))
     except SystemExit as stop:  # --help, --version, or a usage error (2)
         return stop.code if isinstance(stop.code, int) else 0
 

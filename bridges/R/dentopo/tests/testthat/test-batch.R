@@ -60,3 +60,14 @@ test_that("a name that a spreadsheet would run as a formula comes back as it was
   expect_setequal(table$File, names)  # molaR's File column: base names
   expect_true(all(table$status == "ok"))
 })
+
+test_that("a vector for a two-value option is one pair: arc_range = c(low, high)", {
+  skip_without_dentopo()
+  dir <- withr::local_tempdir()
+  good <- write_sphere_ply(file.path(dir, "sphere.ply"))
+  wide <- dentopo_batch(good, metrics = "arc", arc_range = c(0.2, 0.8))
+  default <- dentopo_batch(good, metrics = "arc")
+  expect_equal(wide$status, "ok")
+  expect_type(wide$arc, "double")
+  expect_false(isTRUE(all.equal(wide$arc, default$arc)))
+})
