@@ -145,6 +145,17 @@ def test_the_longest_loop_is_the_base():
     assert _angle(out.transform[:3, :3] @ rotation @ Z, Z) < 0.5
 
 
+def test_a_closed_surface_with_a_small_hole_warns():
+    """The hole is the only loop, so its plane is levelled: said, since it may be wrong."""
+    vertices, faces = _arrays(trimesh.creation.icosphere(subdivisions=3))
+    direction = np.array([0.0, 0.6, 0.8])
+    holed = faces[(vertices[faces].mean(axis=1) @ direction) < 0.97]
+    out = _level(vertices, holed)
+    assert out.details["rule"] == "open base" and out.details["boundary_loops"] == 1
+    assert len(out.warnings) == 1 and "open base is small" in out.warnings[0]
+    assert _level(*_hemisphere(subdivisions=3)).warnings == ()
+
+
 # ---------------------------------------------------------------------------
 # real crowns
 

@@ -8,10 +8,12 @@ carried from "which way along z" to "which way in space"):
   warning (the metrics' rule, the same tolerance).
 * **An open crown** (a surface with a boundary: the usual crown cut at the
   cervix).  Its boundary edges form loops; the longest loop (by length) is its
-  open base, the others are holes (their count is reported).  The base plane
-  is the least-squares plane of the base loop taken as a polyline (every edge
-  weighted by its length, its exact second moment as a segment): its normal
-  is the direction of least spread.  The normal's sign is the one the crown
+  open base, the others are holes (their count is reported; a base loop
+  shorter than ``SMALL_BASE`` times the crown's size is warned about: it may
+  be a hole in a closed surface).  The base plane is the least-squares plane
+  of the base loop taken as a polyline (every edge weighted by its length,
+  its exact second moment as a segment): its normal is the direction of
+  least spread.  The normal's sign is the one the crown
   lies on: the side of the plane where the surface's area-weighted centroid
   lies (the metrics' "open base" rule, measured along the normal instead of
   along z).  The crown is turned by the *smallest* rotation taking that normal
@@ -84,6 +86,11 @@ SKEW_TOLERANCE = 1e-3
 #: The open crown's side is undetermined when its centroid lies within this fraction of
 #: its size from the base plane.
 SIDE_TOLERANCE = 1e-6
+
+#: An open base whose loop is shorter than this times the crown's size (its bounding box's
+#: diagonal) is warned about: a hole, perhaps, in a closed surface (a hemisphere's is 2.1,
+#: a crown cut at the cervix about 1.8).
+SMALL_BASE = 1.0
 
 _SUGGEST = "give the occlusal direction by hand with up=(x, y, z) (--up X,Y,Z)"
 
@@ -194,9 +201,15 @@ def footprint_axis(vertices: np.ndarray, faces: np.ndarray) -> dict:
     }
 
 
-def boundary_loops(vertices: np.ndarray, faces: np.ndarray) -> list[np.ndarray]:
-    """The boundary's connected sets of edges (each (k, 2) directed edges), longest first."""
-    edges = boundary_edges(faces, len(vertices))
+def boundary_loops(
+    vertices: np.ndarray, faces: np.ndarray, edges: np.ndarray | None = None
+) -> list[np.ndarray]:
+    """The boundary's connected sets of edges (each (k, 2) directed edges), longest first.
+
+    `edges`: the boundary edges (:func:`dentopo.mesh.boundary_edges`), if the caller has them.
+    """
+    if edges is None:
+        edges = boundary_edges(faces, len(vertices))
     if len(edges) == 0:
         return []
     n = len(vertices)
@@ -247,9 +260,11 @@ def _as_is(vertices, faces, rule: str, message: str, details: dict) -> Outcome:
     )
 
 
-def _closed_volume(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.ndarray]:
+def _closed_volume(vertices, faces, edges, cross) -> tuple[float, np.ndarray]:
     """The volume closed over the boundary (faces made to agree first), and the agreeing faces."""
     agreeing = orient_consistently(faces, len(vertices))
+    if agreeing is faces:
+        return closed_volume(vertices, faces, edges, cross), faces
     return closed_volume(vertices, agreeing, boundary_edges(agreeing, len(vertices))), agreeing
 
 
@@ -258,22 +273,27 @@ def _find_up(vertices: np.ndarray, faces: np.ndarray):
     tri, cross = _triangles(vertices, faces)
     area = 0.5 * np.linalg.norm(cross, axis=1)
     total = float(area.sum())
-    volume, agreeing = _closed_volume(vertices, faces)
+    edges = boundary_edges(faces, len(vertices))
+    volume, agreeing = _closed_volume(vertices, faces, edges, cross)
     if not abs(volume) > FLAT_TOLERANCE * total**1.5:
         message = (
             "the surface is flat (it encloses no volume over its open base): it has no up or "
             f"down, so it was left as it is; {_SUGGEST}"
         )
         return None, None, None, "flat", {"volume_ratio": abs(volume) / total**1.5}, (message,)
-    loops = boundary_loops(vertices, faces)
+    loops = boundary_loops(vertices, faces, edges)
     size = float(np.linalg.norm(np.ptp(vertices, axis=0)))
     if loops:
         point, normal, rms = fit_base_plane(vertices, loops[0])
         centroid = (area[:, None] * tri.mean(axis=1)).sum(axis=0) / total
         side = float((centroid - point) @ normal)
+        ends = vertices[loops[0]]
+        base_length = float(np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1).sum())
         details = {
             "boundary_loops": len(loops),
+            "holes": len(loops) - 1,
             "base_edges": len(loops[0]),
+            "base_length": base_length,
             "base_rms": rms,
         }
         if not abs(side) > SIDE_TOLERANCE * size:
@@ -285,8 +305,12 @@ def _find_up(vertices: np.ndarray, faces: np.ndarray):
         if side < 0:
             normal = -normal
         found = ()
-        if len(loops) > 1:
-            details["holes"] = len(loops) - 1
+        if base_length < SMALL_BASE * size:
+            found = (
+                f"the open base is small (its loop is {base_length:.4g} long, the crown "
+                f"{size:.4g} across): if the surface is closed but for a hole, the hole's plane "
+                f"was levelled; check it, or {_SUGGEST}",
+            )
         return normal, point, (point, normal), "open base", details, found
     # closed: the shortest principal axis, its side by the area rule
     centroid, second = surface_moments(vertices, faces)
