@@ -280,7 +280,8 @@ def _find_up(vertices: np.ndarray, faces: np.ndarray):
             "the surface is flat (it encloses no volume over its open base): it has no up or "
             f"down, so it was left as it is; {_SUGGEST}"
         )
-        return None, None, None, "flat", {"volume_ratio": abs(volume) / total**1.5}, (message,)
+        ratio = abs(volume) / total**1.5 if total > 0 else 0.0
+        return None, None, None, "flat", {"volume_ratio": ratio}, (message,)
     loops = boundary_loops(vertices, faces, edges)
     size = float(np.linalg.norm(np.ptp(vertices, axis=0)))
     if loops:
