@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import re
 from pathlib import Path
 
@@ -45,7 +46,7 @@ def test_every_keyword_hint_in_the_library_names_an_option(hints):
     advised = set()
     pattern = re.compile(r"(?:with|use|try|read one with) (?:load_mesh\(path, )?([a-z_]+)=")
     for path in SRC.rglob("*.py"):
-        if "cli" in path.parts or "study" in path.parts:  # the study has its own command
+        if {"cli", "study", "prepare"} & set(path.parts):  # these have their own commands
             continue
         advised.update(pattern.findall(path.read_text()))
     assert {"orient", "find_alpha", "geometry"} <= advised
@@ -71,3 +72,12 @@ def test_the_library_batch_keeps_keyword_arguments():
 
     (row,) = compute_batch([shared_mesh("low")], metrics="rfi")
     assert "use find_alpha=True to search" in row["error"]
+
+
+def test_a_tuple_keyword_becomes_one_comma_separated_value():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--up")
+    hints = CommandLineHints(parser)
+    assert hints("by hand with up=(x, y, z)") == "by hand with --up X,Y,Z"
+    assert hints("say up=(0, 0.5, 1).") == "say --up 0,0.5,1."
+    assert hints("spin=(1, 2)") == "spin=(1, 2)"  # no such option: left as it is

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 
 #: ``name=value`` as the library's messages write it (a value quoted, a number or a word).
 _KEYWORD = re.compile(
-    r"(?<![\w.\-])(?P<name>[a-z][a-z0-9_]*)=(?P<value>'[^']*'|\"[^\"]*\"|[A-Za-z0-9_.+\-]+)"
+    r"(?<![\w.\-])(?P<name>[a-z][a-z0-9_]*)="
+    r"(?P<value>'[^']*'|\"[^\"]*\"|\([^()]*\)|[A-Za-z0-9_.+\-]+)"
 )
 
 #: ``load_mesh(path, geometry='x')`` and the like: a call whose only advice is its keyword.
@@ -64,6 +65,11 @@ class CommandLineHints:
         value = match.group("value")
         if value[:1] in "'\"":
             value = value[1:-1]
+        elif value[:1] == "(":  # a tuple, up=(x, y, z): one comma-separated word, --up X,Y,Z
+            parts = [part.strip() for part in value[1:-1].split(",") if part.strip()]
+            if all(part.isidentifier() for part in parts):
+                parts = [part.upper() for part in parts]
+            value = ",".join(parts)
         if option.switch:
             if value == "True":
                 return option.flag

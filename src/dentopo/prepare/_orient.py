@@ -28,9 +28,9 @@ carried from "which way along z" to "which way in space"):
   the faces wound outward, the side that at least ``CLOSED_MARGIN`` more of the
   area faces is up.  When the side is undetermined, or the shortest axis is
   not distinct (its second moment within ``AXIS_MARGIN`` of the next), the
-  surface is left as it is, with a warning suggesting ``up=`` (``--up
-  X,Y,Z``).  A closed surface that *is* turned is also warned about: the
-  rule is a guess from its shape, not from an open base; check it.
+  surface is left as it is, with a warning suggesting ``up=(x, y, z)``
+  (the command shows it as ``--up X,Y,Z``).  A closed surface that *is*
+  turned is also warned about: the rule is a guess from its shape, not from an open base; check it.
 * **up=(x, y, z)** names the occlusal direction by hand: the smallest rotation
   taking it to +z, nothing found.
 
@@ -92,7 +92,7 @@ SIDE_TOLERANCE = 1e-6
 #: a crown cut at the cervix about 1.8).
 SMALL_BASE = 1.0
 
-_SUGGEST = "give the occlusal direction by hand with up=(x, y, z) (--up X,Y,Z)"
+_SUGGEST = "give the occlusal direction by hand with up=(x, y, z)"
 
 
 def rotation_to_z(direction) -> np.ndarray:
