@@ -21,7 +21,6 @@ from typing import TYPE_CHECKING
 from ._version import __version__
 from .prepare import prepare  # light: the steps load on the first call
 
-
 if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from .ariadne import AriaDNEResult, ariaDNE
     from .batch import BatchResult, compute_batch, find_mesh_files, to_dataframe
@@ -46,11 +45,14 @@ if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from .sign import curvature_measure, curvature_measure_sign, measure_radius
     from .study import (
         BandwidthSweep,
+        ProtocolStudy,
         RobustnessStudy,
         bandwidth_sweep,
         perturb,
+        protocol_study,
         robustness_study,
         sign_agreement,
+        write_protocol_study,
         write_study,
         write_sweep,
     )
@@ -113,8 +115,11 @@ _EXPORTS = {
     "measure_radius": ".sign",
     "BandwidthSweep": ".study",
     "RobustnessStudy": ".study",
+    "ProtocolStudy": ".study",
     "bandwidth_sweep": ".study",
     "perturb": ".study",
+    "protocol_study": ".study",
+    "write_protocol_study": ".study",
     "robustness_study": ".study",
     "sign_agreement": ".study",
     "write_study": ".study",
@@ -157,6 +162,7 @@ __all__ = [
     "PreparedCrown",
     "Protocol",
     "ProtocolError",
+    "ProtocolStudy",
     "RFIResult",
     "ReportSummary",
     "RobustnessStudy",
@@ -180,6 +186,7 @@ __all__ = [
     "opcr",
     "perturb",
     "prepare",
+    "protocol_study",
     "read_per_vertex",
     "read_table",
     "render_bandwidths",
@@ -196,6 +203,7 @@ __all__ = [
     "slope",
     "to_dataframe",
     "write_per_vertex",
+    "write_protocol_study",
     "write_report",
     "write_study",
     "write_sweep",
