@@ -1,9 +1,9 @@
-"""``dentopo robustness`` and ``dentopo sweep``: thin shells over `_robustness`.
+"""``dentopo robustness`` and ``dentopo sweep``: thin shells over `dentopo.study`.
 
 The figures need the ``study`` extra (matplotlib), checked before anything is
-computed unless ``--no-figures``; generated perturbations need it too
-(fast-simplification decimates), which the study checks before computing.  A
-missing extra ends as one line naming it, with exit code 2.  So does an output
+computed unless ``--no-figures`` (decimation, by fast-simplification, is a
+dependency: it needs no extra).  A missing extra ends as one line naming it,
+with exit code 2.  So does an output
 folder that is an input (the mesh, a perturbation) or that holds one under a
 name the study writes, or that cannot be written: checked before computing,
 as the main command's outputs are (``_output.output_problem``).
@@ -69,9 +69,17 @@ def _robustness_parser() -> argparse.ArgumentParser:
         help="the smoothing method: laplacian, taubin (default), hc or implicit",
     )
     study.add_argument(
+        "--smooth-step",
+        metavar="X",
+        help="the smoothing method's step (lambda; default: the protocol's, see dentopo prepare)",
+    )
+    study.add_argument(
+        "--smooth-mu", metavar="X", help="taubin's nu or hc's beta (default: the protocol's)"
+    )
+    study.add_argument(
         "--noise",
         metavar="SD,SD,...",
-        help="noise sd on the unit-area scale (default 0.001,0.002; 'none' skips the axis)",
+        help="noise sd on the unit-area scale (default 0,0.001,0.002; 'none' skips the axis)",
     )
     study.add_argument(
         "--base-faces",
@@ -194,6 +202,8 @@ _STUDY_OPTIONS = (
     ("smooth_iterations", "--smooth-iterations"),
     ("smooth", "--smooth"),
     ("noise", "--noise"),
+    ("smooth_step", "--smooth-step"),
+    ("smooth_mu", "--smooth-mu"),
     ("base_faces", "--base-faces"),
     ("metrics", "--metrics"),
     ("find_alpha", "--find-alpha"),
@@ -246,6 +256,7 @@ def _non_negative(text: str) -> float:
 def _study_arguments(args) -> dict:
     """`protocol_study`'s keywords from the options, or `_UsageError`."""
     from ..batch._measure import TopographyOptions
+    from ..prepare import Protocol, ProtocolError
     from ..study._protocol_study import (
         DEFAULT_FACES,
         DEFAULT_NOISE,
@@ -270,6 +281,23 @@ def _study_arguments(args) -> dict:
         raise _UsageError(
             f"--smooth must be one of {', '.join(SMOOTH_METHODS)}; got {args.smooth!r}"
         )
+    numbers = {}
+    for name, flag in (("step", "--smooth-step"), ("mu", "--smooth-mu")):
+        text = getattr(args, f"smooth_{name}")
+        numbers[name] = None
+        if text is not None:
+            try:
+                numbers[name] = float(text)
+            except ValueError:
+                raise _UsageError(f"{flag} wants a number; got {text!r}") from None
+    try:
+        Protocol(orient="none", smooth=method, smooth_step=numbers["step"], smooth_mu=numbers["mu"])
+    except ProtocolError as exc:
+        flags = {"smooth_step": "--smooth-step", "smooth_mu": "--smooth-mu"}
+        message = str(exc)
+        for name, flag in flags.items():
+            message = message.replace(name, flag)
+        raise _UsageError(message) from None
     base_faces = None
     if args.base_faces is not None:
         try:
@@ -292,6 +320,8 @@ def _study_arguments(args) -> dict:
         "smoothing": smoothing,
         "noise": noise,
         "method": method,
+        "step": numbers["step"],
+        "mu": numbers["mu"],
         "base_faces": base_faces,
         "metrics": metrics,
         "bandwidth": args.bandwidth,

@@ -65,7 +65,7 @@ AXES = ("faces", "smoothing", "noise")
 #: Default levels of each axis.
 DEFAULT_FACES = (2000, 5000, 10000, 20000, 40000)
 DEFAULT_SMOOTHING = (0, 3, 10, 30, 100)
-DEFAULT_NOISE = (1e-3, 2e-3)
+DEFAULT_NOISE = (0.0, 1e-3, 2e-3)
 #: The smoothing methods (the protocol's).
 SMOOTH_METHODS = tuple(SMOOTHERS)
 
@@ -374,9 +374,10 @@ def protocol_study(
     faces : sequence of int, optional
         Face counts (default 2k, 5k, 10k, 20k, 40k); None or () skips the axis.
     smoothing : sequence of int, optional
-        Smoothing iterations (default 0, 3, 10, 30, 100); 0 is the base.
+        Smoothing iterations (default 0, 3, 10, 30, 100); 0 is the base itself.
     noise : sequence of float, optional
-        Noise standard deviations on the unit-area scale (default 1e-3, 2e-3).
+        Noise standard deviations on the unit-area scale (default 0, 1e-3,
+        2e-3: the robustness study's levels, and 0, the base, to start the line).
     method : str, default "taubin"
         The smooth step's method (``laplacian``, ``taubin``, ``hc``,
         ``implicit``), with its protocol defaults unless `step` and `mu` are given.
