@@ -129,6 +129,27 @@ def test_a_metric_that_fails_on_one_mesh_is_missing_there_only(crown, monkeypatc
     assert kept["error"] is None and kept["value"] is not None
 
 
+def test_a_value_that_is_not_a_number_is_missing_with_its_reason(crown, monkeypatch):
+    class NotANumber:
+        def to_dict(self):
+            return {"slope_mean": float("nan")}
+
+    original = _measure._TOPOGRAPHY["doolkit_slope"]
+
+    def sometimes(surface, options):
+        return NotANumber() if len(surface.faces) > 1000 else original(surface, options)
+
+    monkeypatch.setitem(_measure._TOPOGRAPHY, "doolkit_slope", sometimes)
+    study = protocol_study(
+        crown, faces=(1200,), smoothing=(), noise=(0,), metrics=["doolkit_slope"]
+    )
+    [row] = _rows(study, "faces", 1200)
+    assert row["value"] is None and row["relative_change"] is None
+    assert row["error"] == "slope_mean is nan on this mesh"
+    [kept] = _rows(study, "noise", 0.0)
+    assert kept["error"] is None and kept["relative_change"] == 0.0
+
+
 def test_a_perturbation_that_cannot_be_made_names_its_level(crown, monkeypatch):
     from dentopo.study import _protocol_study
 

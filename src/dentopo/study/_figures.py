@@ -241,7 +241,7 @@ def sensitivity_figure(
     )
     panels = figure.subplots(1, len(axes), squeeze=False)[0]
     for ax, (axis, levels) in zip(panels, axes.items(), strict=True):
-        missing = 0
+        missing = counted = 0
         for k, quantity in enumerate(quantities):
             colour = _QUANTITY_COLOURS[k % len(_QUANTITY_COLOURS)]
             x, middle, low, high = [], [], [], []
@@ -256,6 +256,7 @@ def sensitivity_figure(
                 ]
                 finite = [100.0 * c for c in changes if c is not None and np.isfinite(c)]
                 missing += len(changes) - len(finite)
+                counted += len(changes)
                 if finite:
                     x.append(level)
                     middle.append(float(np.median(finite)))
@@ -275,10 +276,14 @@ def sensitivity_figure(
             ax.set_xscale("symlog", linthresh=1.0)
             ax.set_xticks(list(levels), [f"{n:g}" for n in levels])
             ax.minorticks_off()
+        elif axis == "noise":
+            ax.set_xticks(list(levels), [f"{sd:g}" for sd in levels])
         ax.set_xlabel(AXIS_LABELS.get(axis, axis), fontsize=8)
         ax.tick_params(labelsize=7)
         if missing:
-            ax.set_title(f"{missing} value(s) missing", fontsize=7, loc="right", color="#a00")
+            ax.set_title(
+                f"{missing} of {counted} values missing", fontsize=7, loc="right", color="#a00"
+            )
     panels[0].set_ylabel(f"change from base ({base}), %", fontsize=8)
     if panels[0].get_legend_handles_labels()[0]:
         panels[0].legend(fontsize=7, loc="best")

@@ -259,9 +259,10 @@ class ProtocolStudy:
     rows : list of dict
         One row per (crown, axis level, metric quantity) with the columns
         ``PROTOCOL_STUDY_COLUMNS``; the base's rows have axis ``"base"``.
-        ``value``, ``base_value`` and ``relative_change`` are None where the
-        metric failed (``error`` says why); ``relative_change`` is NaN where
-        the base value is 0.
+        ``value`` and ``relative_change`` are None where the metric failed or
+        gave no finite number (``error`` says why; ``base_value`` is None where
+        it failed on the base); ``relative_change`` is NaN where the base value
+        is 0 and the value is not.
     crowns : tuple of str
         The crowns' names, in the order given.
     axes : dict of str to tuple
@@ -460,6 +461,12 @@ def protocol_study(
                         error = measurement.errors.get(metric)
                     if error is None and base_value is None:
                         error = f"base: {base.errors.get(metric, 'no value')}"
+                    if error is None and value is not None and not math.isfinite(value):
+                        error = f"{quantity} is {value} on this mesh"
+                        value = None
+                    if error is None and base_value is not None and not math.isfinite(base_value):
+                        error = f"base: {quantity} is {base_value} on the base mesh"
+                        value = None
                     rows.append(
                         {
                             "crown": name,
