@@ -34,7 +34,10 @@ def _robustness_parser() -> argparse.ArgumentParser:
             "Perturb a mesh (about 2k and 20k triangles, noise 1e-3 and 2e-3, Taubin "
             "smoothing), compute every sign method and classic DNE on each, and write "
             "robustness.csv (totals normalised by the original, area sign agreement) and "
-            "figures into DIR."
+            "figures into DIR.  With the protocol study's options (or several crowns, or a "
+            "folder), measure every metric on crowns decimated or refined, smoothed and "
+            "roughened, relative to a base protocol, and write sensitivity.csv, "
+            "sensitivity_summary.csv and one figure per metric."
         ),
     )
     parser.add_argument(
