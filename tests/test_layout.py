@@ -27,7 +27,7 @@ ALLOWED = {
     "figures": {"mesh", "sign", "ariadne", "topography", "prepare"},
     "formats": {"mesh", "ariadne", "topography", "prepare", "figures"},
     "batch": {"mesh", "sign", "ariadne", "topography", "prepare", "formats"},
-    "study": {"mesh", "sign", "ariadne", "topography", "prepare", "formats", "figures"},
+    "study": {"mesh", "sign", "ariadne", "topography", "prepare", "formats", "figures", "batch"},
     "report": {"mesh", "sign", "ariadne", "topography", "prepare", "figures", "formats", "batch"},
     "cli": {
         "mesh",

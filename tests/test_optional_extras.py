@@ -215,7 +215,7 @@ def test_core_commands_work_without_extras(bare, tmp_path):
         (["--samples", "--scheduler", "tcp://x:1"], {}, "cluster"),
         (["--samples"], {"DENTOPO_SCHEDULER": "tcp://x:1"}, "cluster"),
         (["robustness", "TOOTH", "-o", "study"], {}, "study"),
-        (["robustness", "TOOTH", "-o", "study", "--no-figures"], {}, "study"),
+        (["robustness", "TOOTH", "-o", "study", "--faces", "300"], {}, "study"),
         (["sweep", "TOOTH", "-o", "sweep"], {}, "study"),
         (["report", "results.csv", "-o", "x.html"], {}, "report"),
         (["--samples", "-o", "t.csv", "--report", "x.html"], {}, "report"),
@@ -252,7 +252,7 @@ LIBRARY_CALLS = {
     "render_panel": "dentopo.render_panel([(tooth(rings=6), None)], interactive=True)",
     "compute_batch fast": "dentopo.compute_batch(path, method='fast')",
     "compute_batch dask": "dentopo.compute_batch(path, scheduler='tcp://x:1')",
-    "perturb": "dentopo.perturb(tooth(rings=6), low_faces=50)",
+    "write_protocol_study": "dentopo.write_protocol_study(None, 'out')",
     "write_sweep": "dentopo.write_sweep(None, 'out')",
     "write_report": "dentopo.write_report([], 'x.html')",
 }
@@ -263,7 +263,7 @@ LIBRARY_EXTRAS = {
     "render_panel": "viz",
     "compute_batch fast": "fast",
     "compute_batch dask": "cluster",
-    "perturb": "study",
+    "write_protocol_study": "study",
     "write_sweep": "study",
     "write_report": "report",
 }

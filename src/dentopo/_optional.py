@@ -141,8 +141,6 @@ FAST_METHOD = Feature("fast kernel sums (method 'fast')", "finufft", "fast")
 DASK = Feature("Dask clusters", "distributed", "cluster")
 #: ``to_dataframe``.
 DATA_FRAMES = Feature("data frames", "pandas", "table")
-#: The robustness study's decimated perturbations.
-DECIMATION = Feature("decimated meshes", "fast_simplification", "study")
 #: The robustness study's and the bandwidth sweep's figures.
 STUDY_FIGURES = Feature("study figures", "matplotlib", "study")
 #: ``.xlsx`` tables.
@@ -151,4 +149,4 @@ EXCEL = Feature("Excel tables", "openpyxl", "excel")
 REPORT = Feature("collection reports", "plotly", "report")
 
 #: Every feature above, for checks and tests.
-FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, DECIMATION, STUDY_FIGURES, EXCEL, REPORT)
+FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, STUDY_FIGURES, EXCEL, REPORT)

@@ -205,3 +205,115 @@ def totals_bars(rows: Sequence[Mapping], columns: Sequence[str], methods: Sequen
     axes[-1].set_xticks(x, columns)
     axes[0].legend(fontsize=7, ncols=len(series), loc="lower left")
     return figure
+
+
+#: Axis titles of `sensitivity_figure`.
+AXIS_LABELS = {
+    "faces": "faces",
+    "smoothing": "smoothing iterations",
+    "noise": "noise sd (unit-area scale)",
+}
+_QUANTITY_COLOURS = ("0.2", "#c0392b", "#2e6db4", "#e0b040")
+
+
+def sensitivity_figure(
+    rows: Sequence[Mapping],
+    metric: str,
+    quantities: Sequence[str],
+    axes: Mapping[str, Sequence],
+    *,
+    crowns: int = 1,
+    base: str = "as given",
+):
+    """One metric's relative change (%) against each axis of a protocol study.
+
+    One panel per axis; one line per quantity of the metric.  With one crown
+    the line is that crown's; with several it is the median over the crowns,
+    with the band from the smallest to the largest change.  Missing values
+    (a metric that failed) are left out of the line; the panel says how many.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    figure = _mpl("matplotlib.figure").Figure(
+        figsize=(3.3 * len(axes) + 0.6, 3.0), layout="constrained"
+    )
+    panels = figure.subplots(1, len(axes), squeeze=False)[0]
+    for ax, (axis, levels) in zip(panels, axes.items(), strict=True):
+        missing = counted = 0
+        for k, quantity in enumerate(quantities):
+            colour = _QUANTITY_COLOURS[k % len(_QUANTITY_COLOURS)]
+            x, middle, low, high = [], [], [], []
+            for level in levels:
+                changes = [
+                    row["relative_change"]
+                    for row in rows
+                    if row["axis"] == axis
+                    and row["level"] == level
+                    and row["metric"] == metric
+                    and row["quantity"] == quantity
+                ]
+                finite = [100.0 * c for c in changes if c is not None and np.isfinite(c)]
+                missing += len(changes) - len(finite)
+                counted += len(changes)
+                if finite:
+                    x.append(level)
+                    middle.append(float(np.median(finite)))
+                    low.append(min(finite))
+                    high.append(max(finite))
+            if not x:
+                continue
+            ax.plot(x, middle, marker="o", markersize=3, color=colour, label=quantity)
+            if crowns > 1:
+                ax.fill_between(x, low, high, color=colour, alpha=0.15, linewidth=0)
+        ax.axhline(0.0, color="k", linewidth=0.8, linestyle="--")
+        if axis == "faces":
+            ax.set_xscale("log")
+            ax.set_xticks(list(levels), [f"{n / 1000:g}k" for n in levels])
+            ax.minorticks_off()
+        elif axis == "smoothing" and max(levels) >= 10:
+            ax.set_xscale("symlog", linthresh=1.0)
+            ax.set_xticks(list(levels), [f"{n:g}" for n in levels])
+            ax.minorticks_off()
+        elif axis == "noise":
+            ax.set_xticks(list(levels), [f"{sd:g}" for sd in levels])
+        ax.set_xlabel(AXIS_LABELS.get(axis, axis), fontsize=8)
+        ax.tick_params(labelsize=7)
+        if missing:
+            ax.set_title(
+                f"{missing} of {counted} values missing", fontsize=7, loc="right", color="#a00"
+            )
+    panels[0].set_ylabel(f"change from base ({base}), %", fontsize=8)
+    if panels[0].get_legend_handles_labels()[0]:
+        panels[0].legend(fontsize=7, loc="best")
+    spread = "median and range of " if crowns > 1 else ""
+    figure.suptitle(
+        f"{METRIC_TITLES.get(metric, metric)}: {spread}{crowns} crown{'s' * (crowns != 1)}",
+        fontsize=9,
+    )
+    return figure
+
+
+#: Titles of the metrics in `sensitivity_figure`.
+METRIC_TITLES = {
+    "ariadne": "ariaDNE (signDNE split)",
+    "classic": "classic DNE (molaR)",
+    "rfi": "RFI (molaR)",
+    "opcr": "OPCR (molaR)",
+    "opc": "OPC (molaR)",
+    "slope": "slope (molaR)",
+    "arc": "ARC (molaR)",
+    "doolkit_slope": "slope (doolkit)",
+    "angularity": "angularity (doolkit)",
+    "relief_index": "relief index (doolkit)",
+    "inclination": "inclination (doolkit)",
+    "doolkit_opc": "OPC (doolkit)",
+    "doolkit_opcr": "OPCR (doolkit)",
+    "doolkit_arc": "ARC (doolkit)",
+    "doolkit_dne": "DNE (doolkit)",
+    "relief_rate": "relief rate below median (doolkit)",
+    "shape_index": "shape indices (doolkit)",
+    "footprint": "footprint area (doolkit)",
+    "hypsodonty": "hypsodonty (doolkit)",
+}

@@ -55,7 +55,7 @@ import numpy as np
 import trimesh
 
 from .._html_repr import rows_html
-from .._optional import DECIMATION, STUDY_FIGURES
+from .._optional import STUDY_FIGURES
 from ..ariadne import AriaDNEResult, ariaDNE, check_bandwidth
 from ..formats import atomic_write
 from ..mesh import as_arrays, clean, vertex_areas
@@ -120,13 +120,11 @@ def _check_positive(name: str, value) -> float:
 def decimate(vertices: np.ndarray, faces: np.ndarray, target_faces: int) -> tuple:
     """Quadric edge-collapse decimation to about `target_faces` (fast-simplification).
 
-    Raises
-    ------
-    dentopo._optional.MissingExtraError
-        An ``ImportError``: fast-simplification is not installed
-        (``pip install 'dentopo[study]'``, in a clone ``pip install '.[study]'``).
+    fast-simplification is a dependency of dentopo (the prepare step's
+    decimation too); it is imported here, when a mesh is decimated.
     """
-    fast_simplification = DECIMATION.require()
+    import fast_simplification
+
     v, f = fast_simplification.simplify(
         np.ascontiguousarray(vertices, dtype=np.float64),
         np.ascontiguousarray(faces, dtype=np.int64),
@@ -230,13 +228,6 @@ def perturb(
     dict of str to trimesh.Trimesh
         ``"normal"`` (the cleaned original), then ``"low"``, ``"high"``,
         ``"noise1"``, ..., ``"smooth"``, in mesh units.
-
-    Raises
-    ------
-    dentopo._optional.MissingExtraError
-        An ``ImportError``: a face count below the mesh's needs decimation,
-        whose fast-simplification is not installed (``pip install 'dentopo[study]'``, in a clone
-        ``pip install '.[study]'``).
     """
     low_faces = _check_count("low_faces", low_faces)
     high_faces = _check_count("high_faces", high_faces)
@@ -247,8 +238,6 @@ def perturb(
 
     base = clean(*as_arrays(mesh))
     v, f = np.asarray(base.vertices), np.asarray(base.faces)
-    if min(low_faces, high_faces) < len(f):
-        DECIMATION.require()  # now, before the other perturbations are made
     out = {BASE: base}
     out["low"] = trimesh.Trimesh(*retessellate(v, f, low_faces), process=False)
     out["high"] = trimesh.Trimesh(*retessellate(v, f, high_faces), process=False)
