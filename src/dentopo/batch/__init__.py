@@ -7,6 +7,7 @@ batch.  ``_pool`` is the local pool, which survives a worker's death;
 ``_interrupts`` makes Ctrl-C and SIGTERM stop a batch, never inside a critical section.
 
 May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topography`,
+:mod:`dentopo.prepare` (a protocol run on each mesh before it is measured),
 :mod:`dentopo.formats`.  Nothing from figures, study or cli.
 """
 
