@@ -243,6 +243,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                     measured = None
                 else:
                     record = {"file": task.file, **measured.record}
+                    record[PROTOCOL_KEY] = settings.protocol  # in table order: before seconds
                     record.update(seconds=seconds, status=measured.status, error=measured.error)
                 record[PROTOCOL_KEY] = settings.protocol
     finally:
