@@ -131,6 +131,25 @@ def test_a_failing_step_is_one_error_row_and_the_batch_goes_on(crowns):
     assert [r["status"] for r in mixed] == ["ok", "error"]
 
 
+def test_per_vertex_files_are_of_the_prepared_mesh(crowns, tmp_path):
+    import json
+
+    folder = tmp_path / "per_vertex"
+    folder.mkdir()
+    row = compute_batch(
+        str(crowns / "a.ply"), prepare=PROTOCOL, per_vertex_dir=folder, per_vertex_formats="npz"
+    )[0]
+    (written,) = folder.glob("*.npz")
+    with np.load(written) as arrays:
+        vertices = arrays["vertices"] if "vertices" in arrays else arrays["points"]
+    assert len(vertices) == row["vertices"]
+    np.testing.assert_array_equal(
+        vertices, ariaDNE(prepare(str(crowns / "a.ply"), PROTOCOL).mesh).mesh.vertices
+    )
+    (line,) = (folder / ".dentopo-sources.jsonl").read_text(encoding="utf-8").splitlines()
+    assert json.loads(line)["protocol"] == PROTOCOL.label
+
+
 def test_prepare_warnings_go_into_the_row(tmp_path):
     mesh = trimesh.load(tooth(), process=False)
     speck = trimesh.creation.icosphere(subdivisions=1, radius=0.01)

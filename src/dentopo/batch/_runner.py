@@ -223,7 +223,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                 )
                 step = "writing the per-vertex files"
                 if task.per_vertex_dir is not None and measured.status != "error":
-                    _write_per_mesh(task, measured)
+                    _write_per_mesh(task, measured, settings.protocol)
             except Exception as exc:  # one bad file never stops the batch
                 seconds = elapsed()
                 if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
@@ -285,7 +285,7 @@ def _output_reason(task: Task, exc: OSError) -> str:
     return f"cannot write {where}: {why} (an output failed, not the input; rerun to write it)"
 
 
-def _write_per_mesh(task: Task, measured: Measurement) -> None:
+def _write_per_mesh(task: Task, measured: Measurement, protocol: str | None = None) -> None:
     """The per-vertex files (ariaDNE) and per-face files (slope, OPC) of one mesh."""
     options = task.per_vertex
     ariadne = measured.results.get("ariadne")
@@ -310,7 +310,7 @@ def _write_per_mesh(task: Task, measured: Measurement) -> None:
                 task.per_vertex_dir, task.per_vertex_name, faces, formats=options.formats
             )
     if ariadne is not None or faces:  # which mesh these files are (replaced_per_vertex_files)
-        record_source(task.per_vertex_dir, task.per_vertex_name, task.path)
+        record_source(task.per_vertex_dir, task.per_vertex_name, task.path, protocol)
 
 
 #: The metrics with per-face files (``NAME.dentopo.faces.*``) in the per-vertex folder.
