@@ -6,7 +6,8 @@ function T = dentopo_batch(files, varargin)
 %   array, with the command's columns as fields: file, dne, positive_dne,
 %   negative_dne, surface_area, positive_surface_area,
 %   negative_surface_area, vertices, faces, bandwidth, cutoff,
-%   distance_type, sign_method, method, seconds, status, error, warnings.
+%   distance_type, sign_method, method, protocol, seconds, status, error,
+%   warnings.
 %
 %   Every file gets a row: a file that fails has status 'error', its error
 %   text unchanged, and NaN for its numbers (error is '' on rows that

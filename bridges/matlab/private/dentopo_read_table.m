@@ -49,7 +49,7 @@ for j = 1:numel(names)
   numbers = str2double(cells);
   is_text = any(strcmp(names{j}, {'file', 'File', 'status', 'error', 'warnings', ...
                                   'distance_type', 'sign_method', 'method', ...
-                                  'orientation', 'orient'}));
+                                  'orientation', 'orient', 'protocol'}));
   if ~is_text && all(~isnan(numbers(~empty)) | strcmpi(cells(~empty), 'nan'))
     numbers(empty) = NaN;
     columns{j} = num2cell(numbers);

@@ -7,6 +7,7 @@ batch.  ``_pool`` is the local pool, which survives a worker's death;
 ``_interrupts`` makes Ctrl-C and SIGTERM stop a batch, never inside a critical section.
 
 May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topography`,
+:mod:`dentopo.prepare` (a protocol run on each mesh before it is measured),
 :mod:`dentopo.formats`.  Nothing from figures, study or cli.
 """
 
@@ -28,6 +29,8 @@ from ._runner import (
     merge_records,
     plan_batch,
     planned_per_vertex_files,
+    prepared_mesh,
+    protocol_digest,
     replaced_message,
     replaced_per_vertex_files,
     resumable_files,
@@ -56,6 +59,8 @@ __all__ = [
     "merge_records",
     "plan_batch",
     "planned_per_vertex_files",
+    "prepared_mesh",
+    "protocol_digest",
     "replaced_message",
     "replaced_per_vertex_files",
     "resumable_files",

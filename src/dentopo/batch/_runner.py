@@ -31,6 +31,7 @@ from ..formats import (
     DEFAULT_PER_VERTEX_FORMATS,
     METRIC_KEYS,
     OUTPUT_SUFFIX,
+    PROTOCOL_KEY,
     PerVertexOptions,
     naming_the_file,
     per_vertex_names,
@@ -43,6 +44,7 @@ from ..formats import (
     write_per_vertex,
 )
 from ..mesh import check_geometry, load_mesh
+from ..prepare import Protocol, load_protocol
 from ..sign import check_sign_method
 from ..topography import check_metrics, check_orient, rotation_key
 from ._errors import failure_reason
@@ -68,7 +70,10 @@ class Settings:
     it holds every metric asked for, computed with the same settings.
     ``threads`` and ``geometry`` are how, not what: ``geometry`` is how each
     file is read (:func:`dentopo.mesh.load_mesh`); it is not a column, so
-    rows are only reused when it is None.
+    rows are only reused when it is None.  ``prepare`` is the preparation
+    protocol each mesh is prepared with in memory before it is measured
+    (:func:`dentopo.prepare`), or None: the ``protocol`` column holds its
+    label, and a row is only reused for the same protocol digest.
     """
 
     bandwidth: float = 0.08
@@ -80,6 +85,12 @@ class Settings:
     geometry: str | None = None  # which mesh of a file holding several (load_mesh)
     metrics: tuple[str, ...] = ("ariadne",)
     topography: TopographyOptions = field(default_factory=TopographyOptions)
+    prepare: Protocol | None = None
+
+    @property
+    def protocol(self) -> str | None:
+        """The ``protocol`` cell of this batch's rows: the protocol's label, or None."""
+        return None if self.prepare is None else self.prepare.label
 
     def options(self) -> dict:
         """The ``ariaDNE`` keyword arguments."""
@@ -190,8 +201,17 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
             try:
                 phases = None if on_phase is None else partial(on_phase, task.file)
                 mesh = task.path  # ariaDNE alone reads the file itself
-                if settings.geometry is not None or settings.metrics != ("ariadne",):
+                if (
+                    settings.geometry is not None
+                    or settings.metrics != ("ariadne",)
+                    or settings.prepare is not None
+                ):
                     mesh = load_mesh(task.path, geometry=settings.geometry)  # once for all
+                if settings.prepare is not None:
+                    step = "prepare"
+                    if phases is not None:
+                        phases("preparing")
+                    mesh = prepared_mesh(mesh, settings.prepare)
                 step = "measuring"
                 measured = measure_mesh(
                     mesh,
@@ -203,7 +223,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                 )
                 step = "writing the per-vertex files"
                 if task.per_vertex_dir is not None and measured.status != "error":
-                    _write_per_mesh(task, measured)
+                    _write_per_mesh(task, measured, settings.protocol)
             except Exception as exc:  # one bad file never stops the batch
                 seconds = elapsed()
                 if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
@@ -214,6 +234,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                     reason = failure_reason(step, exc, error_reason)
                 reason = _shortened(reason)
                 record = error_record(task.file, reason, seconds, settings.keys())
+                record[PROTOCOL_KEY] = settings.protocol
                 measured = None
             else:
                 seconds = elapsed()
@@ -222,12 +243,31 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                     measured = None
                 else:
                     record = {"file": task.file, **measured.record}
+                    record[PROTOCOL_KEY] = settings.protocol  # in table order: before seconds
                     record.update(seconds=seconds, status=measured.status, error=measured.error)
+                record[PROTOCOL_KEY] = settings.protocol
     finally:
         numba.set_num_threads(previous_threads)
     messages = tuple(dict.fromkeys(str(w.message) for w in caught))
     record["warnings"] = "; ".join(messages) or None
     return Outcome(task.index, record, messages, measured if task.keep_result else None)
+
+
+def prepared_mesh(mesh, protocol: Protocol):
+    """`mesh` prepared by `protocol` (:func:`dentopo.prepare`), as a new trimesh.
+
+    The protocol's warnings are issued again prefixed ``prepare:`` (so that a
+    row's ``warnings`` say which came from preparing); a step that fails
+    raises (the file's error row names it).
+    """
+    from ..prepare import prepare
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        crown = prepare(mesh, protocol)
+    for warning in caught:
+        warnings.warn(f"prepare: {warning.message}", warning.category, stacklevel=2)
+    return crown.mesh
 
 
 def _shortened(reason: str) -> str:
@@ -245,7 +285,7 @@ def _output_reason(task: Task, exc: OSError) -> str:
     return f"cannot write {where}: {why} (an output failed, not the input; rerun to write it)"
 
 
-def _write_per_mesh(task: Task, measured: Measurement) -> None:
+def _write_per_mesh(task: Task, measured: Measurement, protocol: str | None = None) -> None:
     """The per-vertex files (ariaDNE) and per-face files (slope, OPC) of one mesh."""
     options = task.per_vertex
     ariadne = measured.results.get("ariadne")
@@ -270,7 +310,7 @@ def _write_per_mesh(task: Task, measured: Measurement) -> None:
                 task.per_vertex_dir, task.per_vertex_name, faces, formats=options.formats
             )
     if ariadne is not None or faces:  # which mesh these files are (replaced_per_vertex_files)
-        record_source(task.per_vertex_dir, task.per_vertex_name, task.path)
+        record_source(task.per_vertex_dir, task.per_vertex_name, task.path, protocol)
 
 
 #: The metrics with per-face files (``NAME.dentopo.faces.*``) in the per-vertex folder.
@@ -406,11 +446,15 @@ def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
     of ariaDNE (with ``method="auto"`` a row computed by either method
     counts, as auto may pick either; otherwise the recorded method must
     match) and of the topography metrics.  With a ``geometry`` no row counts:
-    the table does not record which mesh was read.
+    the table does not record which mesh was read.  The row's ``protocol``
+    must name the same protocol digest as `settings.prepare` (the first 12
+    hex digits the label holds), or both none: a row measured as read is
+    not reused for a prepared run, nor the other way round.
     """
     done = set()
     if settings.geometry is not None:
         return done
+    digest = None if settings.prepare is None else settings.prepare.digest[:12]
     wanted = dict(settings.topography.settings(settings.metrics))
     if "ariadne" in settings.metrics:
         wanted.update(settings.options())
@@ -428,10 +472,22 @@ def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
             record.get("status") == "ok"
             and all(record.get(name) == value for name, value in wanted.items())
             and all(record.get(key) is not None for key in values)
+            and protocol_digest(record.get(PROTOCOL_KEY)) == digest
         )
         if same and record.get("file"):
             done.add(os.path.abspath(record["file"]))
     return done
+
+
+def protocol_digest(label) -> str | None:
+    """The short digest in a ``protocol`` cell (``"crown-10k 3f2a9c1e0b7d"``), or None if empty.
+
+    A cell that is not a label (no digest after the name) gives itself, which
+    matches no protocol.
+    """
+    if label is None or (isinstance(label, float) and label != label) or str(label) == "":
+        return None
+    return str(label).rsplit(" ", 1)[-1]
 
 
 def merge_records(previous: Iterable[dict], new: Iterable[dict]) -> list[dict]:
@@ -543,13 +599,19 @@ def make_settings(
     arc_range: tuple[float, float] = (0.01, 0.99),
     orient: str = "auto",
     duplicates: str = "drop",
+    prepare=None,
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
+
+    `prepare` is a preparation protocol (a :class:`dentopo.Protocol`, the
+    name of a shipped one, a TOML file's path) or None; it is read and
+    checked here, before any file.
 
     Raises
     ------
     TypeError, ValueError
-        Naming the offending option.
+        Naming the offending option (:class:`dentopo.ProtocolError`, a
+        ``ValueError``, for the protocol).
     """
     bandwidth = check_bandwidth(bandwidth)
     cutoff = check_cutoff(cutoff)
@@ -581,7 +643,19 @@ def make_settings(
             orient=check_orient(orient),
             duplicates=duplicates,
         ),
+        prepare=None if prepare is None else _check_protocol(prepare),
     )
+
+
+def _check_protocol(prepare) -> Protocol:
+    """The protocol `prepare` names, read and checked (a file that cannot be read: ValueError)."""
+    try:
+        return load_protocol(prepare)
+    except OSError as exc:
+        where = exc.filename if exc.filename is not None else prepare
+        raise ValueError(
+            f"cannot read the protocol {os.fspath(where)!r}: {exc.strerror or exc}"
+        ) from None
 
 
 def _check_jobs(jobs) -> int:
@@ -615,6 +689,7 @@ def compute_batch(
     arc_range: tuple[float, float] = (0.01, 0.99),
     orient: str = "auto",
     duplicates: str = "drop",
+    prepare=None,
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -675,6 +750,17 @@ def compute_batch(
         cleaning and the ``faces`` column count them) or as listed by molaR's
         metrics (``"keep"``, molaR's behaviour); warned about either way (see
         :func:`dentopo.topography.prepare_surface`).
+    prepare : Protocol, str or path-like, optional
+        A preparation protocol (a :class:`dentopo.Protocol`, the name of a
+        shipped one, see :func:`dentopo.prepare.named_protocols`, or a TOML
+        file): each mesh is read, prepared in memory with it
+        (:func:`dentopo.prepare`: clean, orient, crop, decimate, smooth) and
+        the prepared crown measured; its per-vertex files are the prepared
+        mesh's.  The protocol is checked before any file; the ``protocol``
+        column holds its label (``"name digest12"``), the row's ``warnings``
+        the preparation's (``prepare: ...``), and a step that fails (a crop
+        that leaves nothing) is that file's error row.  Resumed rows must
+        have the same protocol digest.
     scheduler : str or distributed.Client, optional
         Address of a Dask distributed scheduler (``"tcp://host:8786"``) or a
         client: run on that cluster instead of local processes (``jobs`` is
@@ -768,6 +854,7 @@ def compute_batch(
         arc_range=arc_range,
         orient=orient,
         duplicates=duplicates,
+        prepare=prepare,
     )
     check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):

@@ -107,6 +107,7 @@ examples:
   dentopo tooth.ply --metrics opc --color-by opc --screenshot opc.png
   dentopo tooth.ply --metrics arc --color-by arc --screenshot arc.png --html arc.html
   dentopo tooth.ply --color-by elevation --screenshot elevation.png
+  dentopo scans/ --prepare crown-10k --metrics all -o prepared.csv  # prepared in memory
   dentopo scans/ --scheduler tcp://head-node:8786 -o results.csv --resume
 
 {inputs}
@@ -115,7 +116,7 @@ A file named like a subcommand is given as ./NAME.
 columns (also in the API and the files): file, dne, positive_dne,
 negative_dne, surface_area, positive_surface_area, negative_surface_area,
 vertices, faces, bandwidth, cutoff, distance_type, sign_method, method,
-seconds, status, error; --metrics adds each metric's columns (classic_dne ...,
+protocol, seconds, status, error, warnings; --metrics adds each metric's columns (classic_dne ...,
 rfi, area_3d, area_2d, alpha, opcr, opc_0 ... opc_39.375, opc, opc_bin1 ...
 opc_bin8, slope, orientation) and its settings. A metric that fails on a mesh
 leaves its cells empty, names itself in the error column, and the row's status
@@ -304,6 +305,14 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help="in files holding several meshes (GLB, glTF, 3MF, OBJ objects), measure the one "
         "named NAME, or 'all' joined into one surface (default: such a file is an error row "
         "listing its meshes)",
+    )
+    compute.add_argument(
+        "--prepare",
+        metavar="PROTOCOL",
+        help="prepare each mesh in memory with this protocol (a TOML file, or a shipped name: "
+        "dentopo prepare --protocols) before measuring it: clean, orient, crop, decimate, "
+        "smooth, as dentopo prepare does; the protocol column records its name and digest, "
+        "and --resume reuses a row only for the same protocol",
     )
     run = parser.add_argument_group("running")
     run.add_argument(
@@ -633,6 +642,7 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
                 sources=[file for file, _ in ok],
                 **options,
                 **size,
+                **_prepared_parameters(args),
             )
         if args.show or args.screenshot or args.html:
             file, result = ok[0]
@@ -645,7 +655,9 @@ def _render(render, args, files: list[str], outcomes: dict[int, Outcome]) -> int
                 **size,
             }
             if drawn == "ariadne":
-                render.render_curvature(result.mesh, result, **options, **single)
+                render.render_curvature(
+                    result.mesh, result, **options, **single, **_prepared_parameters(args)
+                )
             else:
                 _render_metric(render, drawn, result, args, {**single, **camera})
     except render.DisplayUnavailableError as exc:
@@ -694,6 +706,21 @@ def _render_metric(render, metric: str, result, args, options: dict) -> None:
         )
 
 
+def _prepared_parameters(args) -> dict:
+    """``parameters={"protocol": ...}`` for a picture of a prepared mesh, else nothing."""
+    if args.prepare is None:
+        return {}
+    return {"parameters": {"protocol": _protocol_record(args)}}
+
+
+def _protocol_record(args) -> dict:
+    """The protocol of --prepare for a picture's provenance: its label and steps."""
+    from ..prepare import load_protocol
+
+    protocol = load_protocol(args.prepare)  # checked before the batch: it reads
+    return {"label": protocol.label, "digest": protocol.digest, "steps": protocol.steps()}
+
+
 def _picture_step_result(metric: str, file: str, args):
     """A picture's metric computed here from the mesh file (elevation: not a batch metric)."""
     import warnings
@@ -704,6 +731,11 @@ def _picture_step_result(metric: str, file: str, args):
     mesh = load_mesh(file, geometry=args.geometry)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        if args.prepare is not None:  # the picture of the mesh measured: the prepared one
+            from ..batch import prepared_mesh
+            from ..prepare import load_protocol
+
+            mesh = prepared_mesh(mesh, load_protocol(args.prepare))
         result = elevation(mesh, orient=args.orient)
     for warning in caught:
         _say(f"{file}: warning: {warning.message}")
@@ -726,6 +758,8 @@ def _metric_parameters(metric: str, args) -> dict:
         parameters["computed"] = "in the picture step, from the mesh file"
         if args.geometry is not None:
             parameters["geometry"] = args.geometry
+    if args.prepare is not None:  # the picture shows the prepared mesh
+        parameters["protocol"] = _protocol_record(args)
     return parameters
 
 
@@ -791,6 +825,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             arc_range=tuple(args.arc_range),
             orient=args.orient,
             duplicates=args.duplicates,
+            prepare=args.prepare,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
@@ -1014,7 +1049,10 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
     if args.report is not None and os.path.exists(args.output):
         from ._report import report_after_batch
 
-        code = max(code, report_after_batch(args.output, args.report, quiet=args.quiet))
+        report = report_after_batch(
+            args.output, args.report, quiet=args.quiet, prepare=settings.prepare
+        )
+        code = max(code, report)
     if code or not rendering:
         return code
     try:

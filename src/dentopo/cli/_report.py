@@ -56,6 +56,13 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "-j", "--jobs", type=int, default=0, metavar="N", help="worker processes (0: all cores)"
     )
+    parser.add_argument(
+        "--prepare",
+        metavar="PROTOCOL",
+        help="the protocol (a TOML file) the rows were prepared with by dentopo --prepare, "
+        "to picture the prepared crowns; shipped protocols are found by the digest in the "
+        "protocol column",
+    )
     parser.add_argument("-q", "--quiet", action="store_true", help="no summary line")
     return parser
 
@@ -113,6 +120,7 @@ def report_main(argv: list[str]) -> int:
         limits=args.limits,
         percentile=args.percentile,
         jobs=args.jobs or None,
+        prepare=args.prepare,
     )
 
 
@@ -127,6 +135,10 @@ def report_problem(output: str, what: str, table: str, groups: str | None = None
     return output_problem([page], inputs)
 
 
-def report_after_batch(table: str, output: str, *, quiet: bool = False) -> int:
-    """The main command's ``--report``: the report of the table just written."""
-    return make_report(table, output, quiet=quiet)
+def report_after_batch(table: str, output: str, *, quiet: bool = False, prepare=None) -> int:
+    """The main command's ``--report``: the report of the table just written.
+
+    `prepare` is the batch's protocol (``--prepare``), if any: the pictures
+    are then of the prepared crowns.
+    """
+    return make_report(table, output, quiet=quiet, prepare=prepare)

@@ -426,6 +426,7 @@ def render_curvature(
     dpi: float | None = None,
     transparent: bool = False,
     source=None,
+    parameters: dict | None = None,
 ) -> None:
     """Draw one mesh coloured by its signed curvature.
 
@@ -482,6 +483,10 @@ def render_curvature(
     source : str or path-like, optional
         The file the mesh was read from, named with its SHA-256 in the
         picture's provenance (default: `mesh`, when it is a path).
+    parameters : dict, optional
+        More settings for the provenance's ``parameters`` (the command adds
+        ``protocol``: the preparation protocol of a mesh prepared before it
+        was measured, whose vertices the picture shows).
 
     Raises
     ------
@@ -516,6 +521,7 @@ def render_curvature(
         elevation=elevation,
         dpi=dpi,
         transparent=transparent,
+        extra=parameters,
     )
 
 
@@ -540,6 +546,7 @@ def render_panel(
     sources: Sequence | None = None,
     categories: Sequence[tuple[str, float]] | None = None,
     metric: str | None = None,
+    parameters: dict | None = None,
 ) -> None:
     """Draw several meshes side by side on one shared colour scale.
 
@@ -575,6 +582,8 @@ def render_panel(
         ``concave (-1)`` and ``convex (+1)`` by default.
     metric : str, optional
         What the colours show, for the provenance (default: the field's name).
+    parameters : dict, optional
+        More settings for the provenance's ``parameters`` (as in :func:`render_curvature`).
 
     Examples
     --------
@@ -635,6 +644,7 @@ def render_panel(
         transparent=transparent,
         categories=categories,
         metric=metric,
+        extra=parameters,
     )
 
 

@@ -346,7 +346,8 @@ def naming_the_file(path: str):
 
 #: In a per-vertex folder: one JSON line ``{"name": ..., "source": ...}`` each time the files of
 #: a base name are written, saying for which mesh file (resolved path); the last line of a name
-#: counts.  Hidden, so never taken for a mesh.
+#: counts; ``"protocol"`` too (its label) when the mesh was prepared before it was measured
+#: (``--prepare``), so that the files hold the prepared mesh.  Hidden, so never taken for a mesh.
 SOURCES_FILE = ".dentopo-sources.jsonl"
 
 _FACES = ".faces"  # the per-face files' extra suffix (``_per_face.FACES_SUFFIX``)
@@ -371,8 +372,17 @@ def per_vertex_paths(
     return paths + ([f"{base}{_FACES}.{fmt}" for fmt in formats] if faces else [])
 
 
-def record_source(directory: str | os.PathLike, name: str, source: str | os.PathLike) -> None:
+def record_source(
+    directory: str | os.PathLike,
+    name: str,
+    source: str | os.PathLike,
+    protocol: str | None = None,
+) -> None:
     """Note in `directory`'s :data:`SOURCES_FILE` that the files of `name` are those of `source`.
+
+    With a `protocol` (a preparation protocol's label) the line also says
+    that the files hold the mesh prepared from `source` with it (its
+    vertices), not the file's own.
 
     One line appended in one write (``O_APPEND``), so that runs writing into one
     folder at the same time do not mix their lines; a link at its place is not
@@ -384,7 +394,10 @@ def record_source(directory: str | os.PathLike, name: str, source: str | os.Path
         If it cannot be written (named in ``filename``).
     """
     path = os.path.join(os.fspath(directory), SOURCES_FILE)
-    line = json.dumps({"name": name, "source": os.path.realpath(os.fspath(source))})
+    entry = {"name": name, "source": os.path.realpath(os.fspath(source))}
+    if protocol is not None:
+        entry["protocol"] = protocol
+    line = json.dumps(entry)
     flags = os.O_WRONLY | os.O_APPEND | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0)
     with naming_the_file(path):
         descriptor = os.open(path, flags, 0o644)

@@ -57,8 +57,11 @@ from ..topography import (
 )
 from ._atomic import atomic_write
 
+#: The column of the preparation protocol a row's mesh was prepared with (``--prepare``):
+#: ``Protocol.label``, ``"name digest12"``; empty for a mesh measured as read.
+PROTOCOL_KEY = "protocol"
 #: Columns of a results table of ariaDNE (the default metric), in order, with the library's names.
-COLUMNS = ("file", *SCALAR_FIELDS, "seconds", "status", "error", "warnings")
+COLUMNS = ("file", *SCALAR_FIELDS, PROTOCOL_KEY, "seconds", "status", "error", "warnings")
 
 #: The record keys each metric fills, in table order (OPCR also fills one key per rotation,
 #: :func:`~dentopo.topography.rotation_key`, right after ``opcr``).
@@ -126,6 +129,7 @@ _TEXT_COLUMNS = frozenset(
         "orient",
         "dne_boundary",
         "arc_boundary",
+        PROTOCOL_KEY,
     }
 )
 _BOOL_COLUMNS = frozenset({"find_alpha"})
@@ -136,8 +140,9 @@ def record_keys(metrics=("ariadne",), rotations: Sequence[float] = ()) -> tuple[
     """A record's keys for `metrics` (see :data:`METRIC_KEYS`), `rotations` of OPCR, in order.
 
     ``file``, each metric's values, the orientation columns (if a metric
-    needs it), the settings of the topography metrics, then ``seconds``,
-    ``status`` and ``error``.
+    needs it), the settings of the topography metrics, ``protocol`` (the
+    preparation protocol, empty without one), then ``seconds``, ``status``,
+    ``error`` and ``warnings``.
     """
     metrics = check_metrics(metrics)
     keys = ["file"]
@@ -153,6 +158,7 @@ def record_keys(metrics=("ariadne",), rotations: Sequence[float] = ()) -> tuple[
         keys += SETTING_KEYS.get(metric, ())
     if ORIENTED.intersection(metrics):
         keys.append("orient")
+    keys.append(PROTOCOL_KEY)
     keys += END_KEYS
     return tuple(dict.fromkeys(keys))
 

@@ -20,7 +20,8 @@ import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
-from ..formats import read_table
+from ..formats import PROTOCOL_KEY, read_table
+from ..prepare import Protocol, ProtocolError, load_protocol, named_protocols
 
 #: Metric columns shown and plotted when the table holds them, in this order, with labels.
 METRIC_LABELS = {
@@ -88,6 +89,14 @@ class Specimen:
     def error(self) -> str:
         """The row's error cell (empty when there is none)."""
         return str(self.record.get("error") or "")
+
+    @property
+    def protocol_label(self) -> str | None:
+        """The row's ``protocol`` cell (the label of the protocol it was prepared with), or None."""
+        value = self.record.get(PROTOCOL_KEY)
+        if value is None or (isinstance(value, float) and math.isnan(value)) or value == "":
+            return None
+        return str(value)
 
     def ariadne_options(self) -> dict:
         """The keyword arguments of :func:`dentopo.ariaDNE` this row was computed with."""
@@ -239,6 +248,49 @@ def match_groups(
             found = by_name.get(specimen.name, UNGROUPED)
         groups.append(found)
     return groups
+
+
+def _short_digest(label: str) -> str:
+    return label.rsplit(" ", 1)[-1]
+
+
+def row_protocols(specimens: Sequence[Specimen], prepare=None) -> dict[str, Protocol]:
+    """The protocol of each ``protocol`` label the rows carry, by label.
+
+    A row holds only its protocol's label (``"name digest12"``), so the
+    protocol itself comes from `prepare` (a :class:`dentopo.Protocol`, a
+    shipped name or a TOML file) or from the shipped protocols, matched by
+    digest; the label's name is not trusted, the digest is.
+
+    Raises
+    ------
+    ValueError
+        If some label's protocol is neither `prepare` nor shipped (naming the
+        label), or `prepare` is the protocol of no row.
+    """
+    given = None if prepare is None else load_protocol(prepare)
+    labels = sorted({s.protocol_label for s in specimens if s.protocol_label is not None})
+    if given is not None and not any(_short_digest(x) == given.digest[:12] for x in labels):
+        held = ", ".join(repr(x) for x in labels) or "none (measured as read)"
+        raise ProtocolError(
+            f"the protocol given ({given.label!r}) is not the one the table's rows were "
+            f"prepared with: theirs are {held}"
+        )
+    candidates = ([given] if given is not None else []) + list(named_protocols().values())
+    by_digest = {}
+    for candidate in candidates:
+        by_digest.setdefault(candidate.digest[:12], candidate)
+    found = {}
+    for label in labels:
+        protocol = by_digest.get(_short_digest(label))
+        if protocol is None:
+            raise ProtocolError(
+                f"rows of the table were prepared with protocol {label!r}, which is not a "
+                "shipped one: give its file (prepare=, --prepare PROTOCOL.toml) to picture "
+                "the prepared crowns"
+            )
+        found[label] = protocol
+    return found
 
 
 def collect(table, *, groups=None) -> tuple[list[Specimen], list[str]]:

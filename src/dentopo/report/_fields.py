@@ -19,6 +19,7 @@ import numpy as np
 from ..ariadne import ariaDNE
 from ..batch import run_pool
 from ..mesh import load_mesh
+from ..prepare import Protocol
 
 #: Fewer files than this are computed in this process (starting workers costs seconds).
 POOL_FROM = 12
@@ -43,12 +44,20 @@ def reason(exc: BaseException) -> str:
     return text[0] if text else type(exc).__name__
 
 
-def measure_field(path: str, options: dict) -> Field | str:
-    """The field of the mesh in `path` (ariaDNE with `options`), or why there is none."""
+def measure_field(path: str, options: dict, protocol: Protocol | None = None) -> Field | str:
+    """The field of the mesh in `path` (ariaDNE with `options`), or why there is none.
+
+    With a `protocol` the mesh is prepared with it first (the row's mesh was:
+    its ``protocol`` cell), so that the picture shows the crown measured.
+    """
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # its row has said it already
             mesh = load_mesh(path)
+            if protocol is not None:
+                from ..prepare import prepare
+
+                mesh = prepare(mesh, protocol).mesh
             result = ariaDNE(mesh, **options)
     except (Exception, MemoryError) as exc:
         return reason(exc)
@@ -99,8 +108,8 @@ def run_calls(function, calls: Sequence[tuple], workers: int, died) -> list:
     return results
 
 
-def measure_fields(tasks: Sequence[tuple[str, dict]], workers: int) -> list[Field | str]:
-    """:func:`measure_field` of each ``(path, options)``, on `workers` processes."""
+def measure_fields(tasks: Sequence[tuple], workers: int) -> list[Field | str]:
+    """:func:`measure_field` of each ``(path, options[, protocol])``, on `workers` processes."""
     return run_calls(
         measure_field,
         tasks,

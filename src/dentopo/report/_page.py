@@ -105,6 +105,9 @@ class PageContent:
         plotly.js, inlined once.
     notes : list of str
         Lines added to the summary.
+    protocols : list of (str, Protocol)
+        The preparation protocols of the rows (by their ``protocol`` label):
+        stated with their steps, and the pictures are of the prepared crowns.
     """
 
     title: str
@@ -117,6 +120,7 @@ class PageContent:
     payloads: dict
     plotly_js: str
     notes: list = field(default_factory=list)
+    protocols: list = field(default_factory=list)
 
 
 def plural(count: int, noun: str) -> str:
@@ -268,7 +272,36 @@ def _summary(content: PageContent) -> str:
         "for the specimen's 3D view.",
         *(html.escape(note) for note in content.notes),
     ]
-    return "".join(f"<p>{line}</p>" for line in lines)
+    return "".join(f"<p>{line}</p>" for line in lines) + _protocols(content)
+
+
+def _step_text(parameters: dict) -> str:
+    return ", ".join(
+        f"{key}={'none' if value is None else value}" for key, value in parameters.items()
+    )
+
+
+def _protocols(content: PageContent) -> str:
+    """The preparation protocols of the rows: name, digest, each step with its parameters."""
+    if not content.protocols:
+        return ""
+    esc = html.escape
+    parts = []
+    for label, protocol in content.protocols:
+        rows = sum(s.protocol_label == label for s in content.specimens)
+        steps = "".join(
+            f"<li><b>{esc(name)}</b> {esc(_step_text(parameters))}</li>"
+            for name, parameters in protocol.steps().items()
+        )
+        about = " ".join(x for x in (protocol.description, protocol.source) if x)
+        parts.append(
+            f'<div class="protocol"><p>Prepared before measuring ({plural(rows, "row")}): '
+            f"protocol <b>{esc(protocol.name)}</b>, digest <code>{esc(protocol.digest)}</code>"
+            + (f" ({esc(about)})" if about else "")
+            + ". The pictures show the prepared crowns (prepared again with it from the "
+            f"files).</p><ol>{steps}</ol></div>"
+        )
+    return "".join(parts)
 
 
 def _options(values: Sequence[str]) -> str:

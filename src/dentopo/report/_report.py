@@ -11,7 +11,7 @@ from .._optional import PICTURES, REPORT
 from ..batch import available_cores
 from ..figures import DEFAULT_PERCENTILE, color_scale
 from ..formats import atomic_write
-from ._collect import collect
+from ._collect import collect, row_protocols
 from ._fields import Field, measure_fields, run_calls, worker_count
 from ._page import PageContent, render_page
 from ._thumbnails import THUMBNAIL_SIZE, draw
@@ -71,6 +71,7 @@ def write_report(
     percentile: float = DEFAULT_PERCENTILE,
     jobs: int | None = None,
     thumbnail_size: int = THUMBNAIL_SIZE,
+    prepare=None,
 ) -> ReportSummary:
     """Write one self-contained HTML page about a collection of measured meshes.
 
@@ -109,6 +110,13 @@ def write_report(
         this process).  The page does not depend on it.
     thumbnail_size : int
         Thumbnail width and height, pixels.
+    prepare : Protocol, str or path-like, optional
+        The preparation protocol of rows whose ``protocol`` column names one
+        (tables of ``compute_batch(prepare=...)``, ``dentopo --prepare``):
+        their pictures are of the crown prepared again with it, as measured,
+        and the page states the protocol and its steps.  A row holds only its
+        protocol's label, so a protocol that is not shipped must be given
+        (its digest must be the row's); shipped ones are found by digest.
 
     Returns
     -------
@@ -145,6 +153,7 @@ def write_report(
         )
     path = os.fspath(path)
     specimens, metrics = collect(table, groups=groups)
+    protocols = row_protocols(specimens, prepare)  # before any work: a missing one is named
 
     for specimen in specimens:  # its ariaDNE failed when the table was computed: so would ours
         if "dne" in metrics and specimen.status == "partial" and specimen.record.get("dne") is None:
@@ -152,7 +161,9 @@ def write_report(
     todo = [s for s in specimens if s.path is not None and s.status != "error" and not s.problem]
     jobs = jobs or available_cores()
     workers = worker_count(jobs, len(todo))
-    fields = measure_fields([(s.path, s.ariadne_options()) for s in todo], workers)
+    fields = measure_fields(
+        [(s.path, s.ariadne_options(), protocols.get(s.protocol_label)) for s in todo], workers
+    )
     drawn: dict[int, Field] = {}
     for specimen, result in zip(todo, fields, strict=True):
         if isinstance(result, Field):
@@ -200,6 +211,7 @@ def write_report(
         payloads=payloads,
         plotly_js=plotly.offline.get_plotlyjs(),
         notes=notes,
+        protocols=[(label, protocols[label]) for label in sorted(protocols)],
     )
     page = render_page(content).encode("utf-8")
     atomic_write(path, lambda stream: stream.write(page), binary=True)

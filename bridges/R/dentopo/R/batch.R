@@ -1,7 +1,7 @@
 # Columns that hold text whatever their values (the rest become numbers when
 # every value reads as one).
 TEXT_COLUMNS <- c("file", "File", "status", "error", "warnings", "distance_type",
-                  "sign_method", "method", "orientation", "orient")
+                  "sign_method", "method", "orientation", "orient", "protocol")
 
 # Read the command's CSV: every column as text first, so that an error message
 # with commas, quotes or line breaks comes through unchanged; then each

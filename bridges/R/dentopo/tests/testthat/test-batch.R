@@ -9,8 +9,8 @@ test_that("dentopo_batch: one row per file, the command's columns, errors as row
   expect_equal(names(table), c(
     "file", "dne", "positive_dne", "negative_dne", "surface_area",
     "positive_surface_area", "negative_surface_area", "vertices", "faces",
-    "bandwidth", "cutoff", "distance_type", "sign_method", "method", "seconds",
-    "status", "error", "warnings"))
+    "bandwidth", "cutoff", "distance_type", "sign_method", "method", "protocol",
+    "seconds", "status", "error", "warnings"))
   expect_equal(nrow(table), 2L)
   ok <- table[table$status == "ok", ]
   expect_equal(ok$file, good)
