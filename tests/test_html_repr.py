@@ -96,6 +96,13 @@ FACTORIES = {
         None,
     ),
     "RobustnessStudy": (lambda m: _study(), None),
+    "Protocol": (lambda m: dentopo.Protocol(faces=2000), "name"),
+    "ProtocolStudy": (
+        lambda m: dentopo.protocol_study(m, faces=(100,), smoothing=(), noise=(), metrics="slope"),
+        "base",
+    ),
+    "PreparedCrown": (lambda m: dentopo.prepare(m, faces=100), "protocol"),
+    "Step": (lambda m: dentopo.prepare(m, faces=100).step("decimate"), "name"),
     "ReportSummary": (lambda m: _summary(), "specimens"),
 }
 

@@ -301,6 +301,14 @@ class Protocol:
         """The name and a short digest, ``"crown-10k 3f2a9c1e0b7d"`` (the ``protocol`` cell)."""
         return f"{self.name} {self.digest[:12]}"
 
+    def __str__(self) -> str:
+        return self.label
+
+    def _repr_html_(self) -> str:
+        from .._html_repr import result_html
+
+        return result_html(self)
+
     def to_dict(self) -> dict:
         """Every field (JSON-ready: tuples as lists)."""
         return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}

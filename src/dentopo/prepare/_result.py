@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
+from .._html_repr import array_summary, result_html, rows_html
 from ._protocol import Protocol
 
 
@@ -176,5 +176,32 @@ class PreparedCrown:
             "warnings": list(self.warnings),
         }
 
+    def step_rows(self) -> list[dict]:
+        """One row per step: name, parameters, faces and vertices before and after, area change."""
+        return [
+            {
+                "step": step.name,
+                "parameters": ", ".join(
+                    f"{k}={v}" for k, v in step.parameters.items() if v is not None
+                ),
+                "faces": f"{step.faces_before} -> {step.faces_after}",
+                "vertices": f"{step.vertices_before} -> {step.vertices_after}",
+                "area_change": step.area_change,
+                "pieces_removed": step.pieces_removed,
+                "warnings": "; ".join(step.warnings),
+            }
+            for step in self.steps
+        ]
+
     def _repr_html_(self) -> str:
-        return result_html(self)
+        summary = {
+            "protocol": self.protocol.label,
+            "vertices": array_summary(self.vertices),
+            "faces": array_summary(self.faces),
+            "transform": array_summary(self.transform),
+        }
+        if self.source is not None:
+            summary["source"] = self.source
+        if self.warnings:
+            summary["warnings"] = " ".join(self.warnings)
+        return rows_html(self.step_rows(), title="PreparedCrown", summary=summary)
