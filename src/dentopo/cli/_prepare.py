@@ -26,7 +26,14 @@ import warnings
 from .._optional import PICTURES, MissingExtraError
 from ..batch import find_mesh_files, is_done, plan_preparation, run_preparation
 from ..formats import atomic_write
-from ..prepare import DECIMATORS, SMOOTHERS, ProtocolError, load_protocol, named_protocols
+from ..prepare import (
+    DECIMATORS,
+    SMOOTHERS,
+    Protocol,
+    ProtocolError,
+    load_protocol,
+    named_protocols,
+)
 from ._hints import CommandLineHints
 from ._output import Planned, output_problem
 from ._progress import Progress, say
@@ -74,8 +81,16 @@ FIELD_OPTIONS = {
 }
 
 
+class _Parser(argparse.ArgumentParser):
+    """A usage error is one line naming the option (``dentopo: argument --keep: ...``), exit 2."""
+
+    def error(self, message: str):
+        say(f"prepare: {message} (see dentopo prepare --help)")
+        raise SystemExit(2)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="dentopo prepare",
         description=(
             "Prepare raw scans for measuring: clean (keep the largest piece), orient occlusal "
@@ -317,6 +332,21 @@ def make_protocol(args, parser):
         raise UsageError(option_message(str(exc), parser)) from None
 
 
+def stated(protocol):
+    """`protocol` with every step's parameters stated, as :meth:`Protocol.to_toml` writes them.
+
+    The same steps (and digest) with the defaults filled in, so that the
+    record of a run and the record of a run of its ``--save-protocol`` file
+    are the same bytes.
+    """
+    try:  # Python 3.11+
+        import tomllib
+    except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+        import tomli as tomllib
+
+    return Protocol.from_mapping(tomllib.loads(protocol.to_toml()))
+
+
 def list_protocols() -> int:
     """``--protocols``: each shipped protocol's name, digest, description and source."""
     for name, protocol in named_protocols().items():
@@ -373,7 +403,7 @@ def prepare_main(argv: list[str]) -> int:
     if args.protocols:
         return list_protocols()
     try:
-        protocol = make_protocol(args, parser)
+        protocol = stated(make_protocol(args, parser))
     except UsageError as exc:
         say(str(exc))
         return 2
@@ -417,8 +447,11 @@ def prepare_main(argv: list[str]) -> int:
         say(f"warning: {warning.message}")
     for pattern in found.unmatched:
         say(f"no mesh files in {pattern!r}")
-    own = [args.output] + ([args.preview] if args.preview else [])
-    files = [f for f in found.files if not any(_inside(f, d) for d in own if os.path.isdir(d))]
+    own = [d for d in (args.output, args.preview) if d is not None and os.path.isdir(d)]
+    given = {os.path.abspath(p) for p in args.paths}  # a file named is kept (and refused below)
+    files = [
+        f for f in found.files if os.path.abspath(f) in given or not any(_inside(f, d) for d in own)
+    ]
     if len(files) < len(found.files) and not args.quiet:
         say(f"{len(found.files) - len(files)} file(s) in the output folders left out")
     if not files:
