@@ -8,7 +8,6 @@ default protocol, the named protocols and the crop options run those steps.
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import shutil
 
@@ -16,8 +15,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from dentopo.cli import main
 from dentopo.cli import _prepare as cli
+from dentopo.cli import main
 from dentopo.formats import read_record
 from dentopo.mesh import read_ply
 from dentopo.prepare import named_protocols, read_protocol
@@ -403,7 +402,7 @@ def test_a_named_protocol_runs_by_name(tmp_path, capsys):
 
 def test_crop_fraction_keeps_the_top_and_records_its_plane(raw, tmp_path, capsys):
     out = tmp_path / "out"
-    code, err = run(capsys, raw / "tooth.ply", "-o", out, "--crop-fraction", "0.5")
+    code, err = run(capsys, raw / "tooth.ply", "-o", out, *KEEP, "--crop-fraction", "0.5")
     assert code == 0, err
     record = read_record(out / "tooth.prepare.json")
     crop = next(s for s in record["steps"] if s["step"] == "crop")

@@ -14,12 +14,12 @@ import trimesh
 import dentopo
 from dentopo.formats import (
     RECORD_SUFFIX,
+    _prepared,
     prepared_ply_bytes,
     read_record,
     safe_folder,
     write_prepared,
 )
-from dentopo.formats import _prepared
 from dentopo.mesh import read_ply
 from dentopo.samples import tooth
 

@@ -78,14 +78,25 @@ def _side_view(axis: np.ndarray) -> np.ndarray:
 
 
 def _frame(plotter, vertices: np.ndarray, towards: np.ndarray, up: np.ndarray, extra=()):
-    """Point the active subplot's camera along -`towards`, `up` up, framing the points."""
+    """Point the active subplot's camera along -`towards`, `up` up, framing the points.
+
+    Framed on the points given (the mesh, the arrow), not on every actor: the
+    planes, drawn larger than the crown, run off the edges.
+    """
     points = np.vstack([vertices, *extra]) if len(extra) else vertices
-    centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
+    right = np.cross(up, towards)
+    across, upward = points @ right, points @ up
+    centre = (
+        0.5 * (across.min() + across.max()) * right
+        + 0.5 * (upward.min() + upward.max()) * up
+        + float(np.mean(points @ towards)) * towards
+    )
     distance = 3.0 * max(float(np.linalg.norm(np.ptp(points, axis=0))), 1e-12)
     plotter.camera_position = [tuple(centre + distance * towards), tuple(centre), tuple(up)]
     plotter.enable_parallel_projection()
-    plotter.reset_camera()
-    plotter.camera.zoom(1.15)
+    plotter.reset_camera_clipping_range()
+    half = 0.5 * max(float(np.ptp(upward)), float(np.ptp(across)), 1e-12)
+    plotter.camera.parallel_scale = 1.12 * half
 
 
 def _plane_patch(pv, point, normal, size: float):
@@ -173,11 +184,11 @@ def render_preparation(
             base = None
             if orient is not None and orient.plane is not None:
                 base = np.asarray(orient.plane["point"], float)
-                patch = _plane_patch(pv, base, _unit(orient.plane["normal"]), 0.9 * extent)
+                patch = _plane_patch(pv, base, _unit(orient.plane["normal"]), 1.0 * extent)
                 plotter.add_mesh(patch, color=AXIS_COLOR, opacity=0.18)
                 plotter.add_mesh(patch.extract_feature_edges(), color=AXIS_COLOR, line_width=2)
             if cut is not None:
-                patch = _plane_patch(pv, cut[0], cut[1], 1.1 * extent)
+                patch = _plane_patch(pv, cut[0], cut[1], 1.3 * extent)
                 plotter.add_mesh(patch, color=CROP_COLOR, opacity=0.25)
                 plotter.add_mesh(patch.extract_feature_edges(), color=CROP_COLOR, line_width=3)
             heights = raw_vertices @ axis
