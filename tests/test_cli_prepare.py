@@ -408,3 +408,88 @@ def test_crop_fraction_keeps_the_top_and_records_its_plane(raw, tmp_path, capsys
     crop = next(s for s in record["steps"] if s["step"] == "crop")
     assert crop["plane"] is not None and crop["faces"][1] < crop["faces"][0]
     shutil.rmtree(out)
+
+
+def test_ctrl_c_stops_without_half_files(raw, tmp_path, capsys, monkeypatch):
+    from dentopo.formats import _prepared
+
+    calls = []
+    original = _prepared.record_text
+
+    def interrupted_on_the_second(record):
+        calls.append(record["input"]["path"])
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return original(record)
+
+    monkeypatch.setattr(_prepared, "record_text", interrupted_on_the_second)
+    out = tmp_path / "out"
+    code, err = run(capsys, raw, "-o", out, *KEEP)
+    assert code == 130 and "interrupted" in err and "--resume" in err
+    files = [p for p in out.rglob("*") if p.is_file()]
+    assert not [p for p in files if p.name.endswith(".tmp")]
+    assert len([p for p in files if p.name.endswith(".prepare.json")]) == 1
+    monkeypatch.undo()
+    code, err = run(capsys, raw, "-o", out, *KEEP, "--resume")
+    assert code == 0 and "1 of 3 files already done" in err
+
+
+def test_render_preparation_draws_the_axis_and_the_crop_plane(tmp_path):
+    """A tilted crown whose orientation and crop are known: blue axis, red plane, both drawn."""
+    pytest.importorskip("pyvista", reason="pyvista (the viz extra) draws the previews")
+    image = pytest.importorskip("PIL.Image", reason="Pillow reads the PNGs")
+    import dataclasses
+
+    import dentopo
+    from dentopo.figures import render_preparation
+    from dentopo.prepare import Step
+
+    mesh = tooth(rings=12)
+    angle = np.radians(30.0)
+    turn = np.array(
+        [[1, 0, 0], [0, np.cos(angle), -np.sin(angle)], [0, np.sin(angle), np.cos(angle)]]
+    )
+    raw_vertices = mesh.vertices @ turn.T  # the raw scan, tilted by 30 degrees
+    transform = np.eye(4)
+    transform[:3, :3] = turn.T  # orient: back upright
+    upright = mesh.vertices
+    height = upright[:, 2].min() + 0.3 * np.ptp(upright[:, 2])
+    kept = mesh.faces[(upright[mesh.faces][:, :, 2] >= height).all(axis=1)]
+    crown = dentopo.prepare((upright, kept), orient="none")
+    sizes = (len(upright), len(upright), len(mesh.faces), len(mesh.faces), 1.0, 1.0)
+    orient = Step(
+        "orient",
+        {"mode": "occlusal"},
+        *sizes,
+        transform=transform,
+        plane={"point": [0.0, 0.0, 0.0], "normal": list(turn @ [0.0, 0.0, 1.0])},
+    )
+    crop = Step(
+        "crop",
+        {"fraction": 0.7},
+        *sizes,
+        plane={"point": [0.0, 0.0, float(height)], "normal": [0.0, 0.0, 1.0]},
+    )
+    crown = dataclasses.replace(crown, steps=(crown.steps[0], orient, crop), transform=transform)
+    before = raw_vertices.copy()
+    drawn, plain = tmp_path / "drawn.png", tmp_path / "plain.png"
+    render_preparation(raw_vertices, mesh.faces, crown, drawn, title="specimen <1>.ply")
+    render_preparation(
+        raw_vertices,
+        mesh.faces,
+        dataclasses.replace(crown, steps=crown.steps[:1], transform=np.eye(4)),
+        plain,
+    )
+    assert np.array_equal(raw_vertices, before)  # never modified
+
+    def coloured(path):
+        with image.open(path) as picture:
+            pixels = np.asarray(picture.convert("RGB")).astype(int)
+        left = pixels[:, : pixels.shape[1] // 2]
+        red = (left[..., 0] > 150) & (left[..., 1] < 90) & (left[..., 2] < 90)
+        blue = (left[..., 2] > 150) & (left[..., 0] < 90)
+        return int(red.sum()), int(blue.sum())
+
+    red, blue = coloured(drawn)
+    assert red > 200 and blue > 200  # the crop plane and the axis
+    assert coloured(plain)[0] == 0  # no crop: no red
