@@ -493,3 +493,19 @@ def test_render_preparation_draws_the_axis_and_the_crop_plane(tmp_path):
     red, blue = coloured(drawn)
     assert red > 200 and blue > 200  # the crop plane and the axis
     assert coloured(plain)[0] == 0  # no crop: no red
+
+
+def test_files_named_go_to_the_top_unless_a_folder_given_holds_them(raw, tmp_path, capsys):
+    out = tmp_path / "out"
+    code, err = run(capsys, raw / "tooth.ply", raw / "sub" / "sphere.ply", "-o", out, *KEEP)
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == [
+        "sphere.ply",
+        "sphere.prepare.json",
+        "tooth.ply",
+        "tooth.prepare.json",
+    ]
+    out2 = tmp_path / "out2"
+    code, err = run(capsys, raw / "sub", raw / "sub" / "deep" / "tooth2.ply", "-o", out2, *KEEP)
+    assert code == 0, err
+    assert (out2 / "deep" / "tooth2.ply").is_file() and (out2 / "sphere.ply").is_file()

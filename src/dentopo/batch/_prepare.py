@@ -116,14 +116,18 @@ def _glob_root(pattern: str) -> str:
 
 
 def input_roots(inputs: Iterable[str | os.PathLike]) -> list[str]:
-    """The folder each input's files are named from (see the module docstring), absolute."""
+    """The folders given (and the folders of the globs given), absolute: their files' roots.
+
+    A file given by name is no root for others: it goes to the top of the
+    output folder unless a folder given holds it.
+    """
     roots = []
     for item in inputs:
         path = os.fspath(item)
         if os.path.isdir(path):
             root = path
         elif os.path.lexists(path) or not glob.has_magic(path):
-            root = os.path.dirname(path) or os.curdir
+            continue
         else:
             root = _glob_root(path)
         roots.append(os.path.normpath(os.path.abspath(root)))

@@ -34,6 +34,7 @@ PREVIEW_SIZE = (880, 440)
 AXIS_COLOR = (0.12, 0.35, 0.85)
 CROP_COLOR = (0.85, 0.15, 0.12)
 REMOVED_COLOR = (0.55, 0.45, 0.40)
+WARNING_COLOR = (0.70, 0.05, 0.05)
 
 
 def _step(crown, name: str):
@@ -99,6 +100,20 @@ def _frame(plotter, vertices: np.ndarray, towards: np.ndarray, up: np.ndarray, e
     plotter.camera.parallel_scale = 1.12 * half
 
 
+def _crown_points(raw_vertices: np.ndarray, vertices: np.ndarray, inverse: np.ndarray):
+    """The raw scan's points that frame the picture: the crown, not the specks cleaning removed.
+
+    The prepared crown carried back into the raw scan's coordinates, and the
+    raw points near it (within half again its size of its centre: the base a
+    crop removed), so that loose specks far away do not shrink the crown.
+    """
+    back = vertices @ inverse[:3, :3].T + inverse[:3, 3]
+    centre = 0.5 * (back.min(axis=0) + back.max(axis=0))
+    radius = 0.5 * float(np.linalg.norm(np.ptp(back, axis=0)))
+    near = raw_vertices[np.linalg.norm(raw_vertices - centre, axis=1) <= 1.5 * radius]
+    return np.vstack([back, near]) if len(near) else back
+
+
 def _plane_patch(pv, point, normal, size: float):
     return pv.Plane(center=point, direction=normal, i_size=size, j_size=size)
 
@@ -145,7 +160,9 @@ def render_preparation(
     orientation = _orientation(crown)
     inverse = _rigid_inverse(orientation)
     axis = _unit(orientation[:3, :3].T @ np.array([0.0, 0.0, 1.0]))  # +z in raw coordinates
-    extent = max(float(np.linalg.norm(np.ptp(raw_vertices, axis=0))), 1e-12)
+    inverse_all = _rigid_inverse(np.asarray(crown.transform, dtype=np.float64))
+    framed = _crown_points(raw_vertices, vertices, inverse_all)
+    extent = max(float(np.linalg.norm(np.ptp(framed, axis=0))), 1e-12)
     orient = _step(crown, "orient")
     crop = _step(crown, "crop")
 
@@ -191,8 +208,8 @@ def render_preparation(
                 patch = _plane_patch(pv, cut[0], cut[1], 1.3 * extent)
                 plotter.add_mesh(patch, color=CROP_COLOR, opacity=0.25)
                 plotter.add_mesh(patch.extract_feature_edges(), color=CROP_COLOR, line_width=3)
-            heights = raw_vertices @ axis
-            start = base if base is not None else raw_vertices.mean(axis=0)
+            heights = framed @ axis
+            start = base if base is not None else framed.mean(axis=0)
             start = start + (heights.min() - float(start @ axis)) * axis
             length = 1.25 * max(float(np.ptp(heights)), 1e-12)
             arrow = pv.Arrow(
@@ -204,7 +221,7 @@ def render_preparation(
                 shaft_radius=0.012,
             )
             plotter.add_mesh(arrow, color=AXIS_COLOR)
-            _frame(plotter, raw_vertices, _side_view(axis), axis, extra=[arrow.points])
+            _frame(plotter, framed, _side_view(axis), axis, extra=[arrow.points])
             label = (
                 "raw scan: found axis (blue)" if orient is not None else "raw scan: +z (no orient)"
             )
@@ -215,7 +232,15 @@ def render_preparation(
                 font_size=8,
                 color="black",
             )
-            plotter.add_text(_short(title), position="upper_left", font_size=10, color="black")
+            plotter.add_text(_short(title), position="upper_left", font_size=11, color="black")
+            if crown.warnings:
+                more = f" (+{len(crown.warnings) - 1} more)" if len(crown.warnings) > 1 else ""
+                plotter.add_text(
+                    "warning: " + _start(crown.warnings[0], 50) + more,
+                    position=(6, window_size[1] - 44),
+                    font_size=8,
+                    color=WARNING_COLOR,
+                )
             # right: the prepared crown from the occlusal camera
             plotter.subplot(0, 1)
             plotter.add_light(pv.Light(light_type="headlight"), only_active=True)
@@ -246,6 +271,12 @@ def _short(text: str, limit: int = 70) -> str:
     """A title that fits: the end of a long path (where the file name is)."""
     text = " ".join(str(text).split())
     return text if len(text) <= limit else "..." + text[-(limit - 3) :]
+
+
+def _start(text: str, limit: int) -> str:
+    """The start of a long message (where it says what happened)."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _outline(picture) -> None:
