@@ -21,6 +21,7 @@ import os
 import re
 import signal
 import sys
+import textwrap
 import warnings
 
 from .._optional import PICTURES, MissingExtraError
@@ -92,10 +93,11 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="dentopo prepare",
-        description=(
+        description=textwrap.fill(
             "Prepare raw scans for measuring: clean (keep the largest piece), orient occlusal "
             "side up, crop, decimate and smooth, as a protocol says; writes OUTDIR/NAME.ply "
-            "and OUTDIR/NAME.prepare.json (what was done, with the input's SHA-256)."
+            "and OUTDIR/NAME.prepare.json (what was done, with the input's SHA-256).",
+            width=79,
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
