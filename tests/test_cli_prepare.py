@@ -509,3 +509,21 @@ def test_files_named_go_to_the_top_unless_a_folder_given_holds_them(raw, tmp_pat
     code, err = run(capsys, raw / "sub", raw / "sub" / "deep" / "tooth2.ply", "-o", out2, *KEEP)
     assert code == 0, err
     assert (out2 / "deep" / "tooth2.ply").is_file() and (out2 / "sphere.ply").is_file()
+
+
+def test_a_killed_worker_leaves_no_temporary_file(tmp_path, monkeypatch):
+    from dentopo.batch import _prepare as batch
+
+    monkeypatch.chdir(tmp_path)
+    small_tooth(tmp_path / "raw" / "a" / "tooth.ply")
+    (task,) = batch.plan_preparation(["raw/a/tooth.ply"], ["raw"], tmp_path / "out")
+    folder = tmp_path / "out" / "a"
+    folder.mkdir(parents=True)
+    left = [folder / ".tooth.ply.k2j4.tmp", folder / ".tooth.prepare.json.x9.tmp"]
+    kept = [folder / "tooth.ply", folder / ".other.ply.k2j4.tmp"]
+    for path in left + kept:
+        path.write_bytes(b"x")
+    outcome = batch._failed(task, "worker process killed by SIGKILL (out of memory?)")
+    assert outcome.status == "error" and "SIGKILL" in outcome.error
+    assert not any(path.exists() for path in left)
+    assert all(path.exists() for path in kept)

@@ -282,7 +282,31 @@ def prepare_task(
     return PrepareOutcome(task.index, task.file, "ok", None, seconds, messages, faces)
 
 
+def remove_temporaries(task: PrepareTask) -> int:
+    """Remove the temporary files a worker killed while writing `task`'s outputs left behind.
+
+    Outputs are written to ``.NAME.XXXX.tmp`` beside them and renamed
+    (:func:`dentopo.formats.atomic_write`); a process killed in between
+    (SIGKILL, the out-of-memory killer, a pool stopped by Ctrl-C) leaves the
+    temporary file, never half an output.  Returns how many were removed.
+    """
+    removed = 0
+    for path in task.outputs():
+        folder, name = os.path.split(path)
+        for temporary in glob.glob(
+            os.path.join(glob.escape(folder), glob.escape(f".{name}.") + "*.tmp")
+        ):
+            try:
+                os.unlink(temporary)
+                removed += 1
+            except OSError:
+                pass
+    return removed
+
+
 def _failed(task: PrepareTask, reason: str, seconds: float | None = None) -> PrepareOutcome:
+    """The outcome of a task whose worker died (its temporary files removed)."""
+    remove_temporaries(task)
     return PrepareOutcome(task.index, task.file, "error", reason, seconds)
 
 
@@ -303,13 +327,23 @@ def run_preparation(
     `render` must be picklable (a module-level function) for workers.
     """
     if jobs > 1 and len(tasks) > 1:
-        yield from run_pool(
+        finished: set[int] = set()
+        running = run_pool(
             tasks,
             prepare_task,
             (protocol, geometry, render),
             workers=min(jobs, len(tasks)),
             failed=_failed,
         )
+        try:
+            for outcome in running:
+                finished.add(outcome.index)
+                yield outcome
+        finally:  # stopped early (Ctrl-C): the workers are killed, maybe while writing
+            running.close()
+            for task in tasks:
+                if task.index not in finished:
+                    remove_temporaries(task)
         return
     with guard_interrupts() as guard:
         for task in tasks:
