@@ -4,7 +4,8 @@
 files; ``_runner`` computes them (one process, a local pool of workers, or a
 Dask cluster), one record per file, resumable, one bad file never stopping the
 batch.  ``_pool`` is the local pool, which survives a worker's death;
-``_interrupts`` makes Ctrl-C and SIGTERM stop a batch, never inside a critical section.
+``_interrupts`` makes Ctrl-C and SIGTERM stop a batch, never inside a critical section;
+``_prepare`` prepares raw scans (:mod:`dentopo.prepare`) in a batch, a mesh and a record each.
 
 May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topography`,
 :mod:`dentopo.prepare` (a protocol run on each mesh before it is measured),
@@ -14,6 +15,15 @@ May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topograph
 from ._inputs import FORMAT_PACKAGES, MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
 from ._interrupts import Interrupted, guard_interrupts
 from ._pool import run_pool
+from ._prepare import (
+    PrepareOutcome,
+    PrepareTask,
+    is_done,
+    output_names,
+    plan_preparation,
+    prepare_task,
+    run_preparation,
+)
 from ._result import BatchResult, to_dataframe
 from ._runner import (
     Outcome,
@@ -44,6 +54,8 @@ __all__ = [
     "FoundInputs",
     "Interrupted",
     "Outcome",
+    "PrepareOutcome",
+    "PrepareTask",
     "Settings",
     "Task",
     "available_cores",
@@ -54,17 +66,22 @@ __all__ = [
     "error_record",
     "find_mesh_files",
     "guard_interrupts",
+    "is_done",
     "is_own_output",
     "make_settings",
     "merge_records",
+    "output_names",
     "plan_batch",
+    "plan_preparation",
     "planned_per_vertex_files",
+    "prepare_task",
     "prepared_mesh",
     "protocol_digest",
     "replaced_message",
     "replaced_per_vertex_files",
     "resumable_files",
     "run_pool",
+    "run_preparation",
     "run_tasks",
     "to_dataframe",
 ]

@@ -28,6 +28,7 @@ from ._streams import (
 # command stays fast).
 SUBCOMMANDS: dict[str, str | Callable[[list[str]], int]] = {
     "info": "dentopo.cli._info:info_main",
+    "prepare": "dentopo.cli._prepare:prepare_main",
     "report": "dentopo.cli._report:report_main",
     "robustness": "dentopo.cli._study:robustness_main",
     "sweep": "dentopo.cli._study:sweep_main",

@@ -8,11 +8,13 @@ views with matplotlib texts and legends, sized in points), ``_provenance``
 pyvista imported only when a picture is drawn), ``_html`` (self-contained WebGL
 pages), ``_topography`` (per-face pictures of slope, OPC, ARC, angularity,
 inclination and elevation, and RFI's footprint outline, drawn from a result's
-arrays).
+arrays), ``_preparation`` (previews of :func:`dentopo.prepare`: the raw scan with its
+found axis and crop plane beside the prepared crown, and a contact sheet of them).
 
 May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
 :mod:`dentopo.topography` (to compute a result with default settings when none
-is given; figures never implement a metric).  Nothing from formats, batch,
+is given; figures never implement a metric), :mod:`dentopo.prepare` (the prepared
+crown drawn by the previews).  Nothing from formats, batch,
 study or cli.
 """
 
@@ -26,6 +28,7 @@ from ._colors import (
     diverging_rgb,
     slope_rgb,
 )
+from ._preparation import preview_sheet, render_preparation
 from ._provenance import read_provenance
 from ._render import (  # pyvista is imported only when a picture is drawn
     DisplayUnavailableError,
@@ -61,6 +64,7 @@ __all__ = [
     "color_scale",
     "diverging_rgb",
     "has_display",
+    "preview_sheet",
     "read_provenance",
     "render_bandwidths",
     "render_comparison",
@@ -69,6 +73,7 @@ __all__ = [
     "render_footprint",
     "render_opc",
     "render_panel",
+    "render_preparation",
     "render_slope",
     "slope_rgb",
 ]

@@ -7,11 +7,13 @@ any work), ``_tables``
 (the result table's column layouts and file formats, one registry each:
 :data:`LAYOUTS`, :data:`FORMATS`), ``_per_vertex`` (each mesh's cleaned
 vertices with their values, as PLY, VTP, NPZ or CSV, and reading them back),
-``_per_face`` (the face-wise slope and OPC values, in the same formats).
+``_per_face`` (the face-wise slope and OPC values, in the same formats),
+``_prepared`` (a prepared crown's mesh and its ``.prepare.json`` record).
 
 May import: :mod:`dentopo.ariadne` (the result's field names),
 :mod:`dentopo.topography` (the metrics' names and keys),
-:mod:`dentopo.figures` (the colour scale of per-vertex colours).  Nothing from
+:mod:`dentopo.figures` (the colour scale of per-vertex colours),
+:mod:`dentopo.prepare` (the prepared crown's record).  Nothing from
 batch, study or cli.
 """
 
@@ -42,6 +44,15 @@ from ._per_vertex import (
     recorded_sources,
     replaced_files,
     write_per_vertex,
+)
+from ._prepared import (
+    RECORD_SUFFIX,
+    prepared_ply_bytes,
+    prepared_record,
+    read_record,
+    safe_folder,
+    sha256_file,
+    write_prepared,
 )
 from ._tables import (
     COLUMNS,
@@ -75,6 +86,7 @@ __all__ = [
     "OUTPUT_SUFFIX",
     "PER_VERTEX_FORMATS",
     "PROTOCOL_KEY",
+    "RECORD_SUFFIX",
     "SETTING_KEYS",
     "SOURCES_FILE",
     "Column",
@@ -97,15 +109,21 @@ __all__ = [
     "per_vertex_formats",
     "per_vertex_names",
     "per_vertex_paths",
+    "prepared_ply_bytes",
+    "prepared_record",
     "read_journal",
     "read_per_vertex",
+    "read_record",
     "read_table",
     "record_keys",
     "record_source",
     "recorded_sources",
     "replaced_files",
+    "safe_folder",
+    "sha256_file",
     "table_format",
     "write_per_face",
     "write_per_vertex",
+    "write_prepared",
     "write_table",
 ]
