@@ -1,23 +1,213 @@
-"""The decimate step: quadric edge collapse to a face count.
+"""The decimate step: quadric edge collapse to a face count, keeping the open base.
 
-SKELETON (first version: fast-simplification, to be finished: boundary kept, within 1 %).
+``method="quadric"`` is fast-simplification's quadric edge collapse (Garland &
+Heckbert's error quadrics, Sven Forstmann's Fast-Quadric-Mesh-Simplification,
+wrapped by pyvista's fast-simplification) with its ``preserve_border=True``:
+no edge that touches a vertex of an open boundary is collapsed, so every vertex
+of the crown's open base (the cervical cut) keeps its exact position and the
+boundary loops stay as they were.  Without it the library does collapse
+boundary edges onto their midpoint or an end, which pulls the outline off its
+curve (measured: on a unit hemisphere of 10,176 faces decimated to 1,000, the
+base's vertices moved up to 0.018 off the original outline, and up to 0.096 on
+the shared ``low_hole`` crown; with ``preserve_border`` the distance is 0).
+The price is that the base keeps the scan's resolution along its outline.
+
+The library stops once it is at or below the target, or after 100 passes of
+growing error threshold; the count it reaches is checked here and, if it is
+more than 1 % off, the decimation is continued (above the target) or redone
+with a corrected target (below it), a few times at most.  The count reached is
+``details["faces_reached"]``; a warning says if it stayed more than 1 % off.
+
+The library's thresholds are absolute (squared-distance errors), so the mesh is
+scaled by a power of two to a size near 1 before decimating and scaled back
+after (exact in floating point: kept boundary vertices come back bit for bit),
+which makes the result independent of the mesh's unit.  The collapse order is
+deterministic: the same input gives the same arrays, bit for bit.
+
+``method="meshlab"`` is MeshLab's own quadric edge collapse
+(``meshing_decimation_quadric_edge_collapse`` through pymeshlab, an optional
+extra under the GPL: ``pip install 'dentopo[meshlab]'``), with
+``preserveboundary=True`` and MeshLab's other defaults, for protocols that
+name MeshLab.
+
+A target at or above the mesh's face count leaves the mesh as it is (a note
+in the details says so); a target below 4 faces is an error.
 """
 
 from __future__ import annotations
 
-import numpy as np
+import math
+import threading
 
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from .._optional import MESHLAB
+from ..mesh import boundary_edges
+from ._protocol import DECIMATORS
 from ._result import Outcome
 
+#: How close to the target the face count must land (a fraction of the target).
+TOLERANCE = 0.01
 
-def run(vertices: np.ndarray, faces: np.ndarray, *, faces_target: int, method: str) -> Outcome:
+#: How many times the quadric decimation is continued or redone to land within TOLERANCE.
+ATTEMPTS = 4
+
+#: MeshLab's quadric edge collapse parameters besides the target (its defaults, the boundary kept).
+MESHLAB_PARAMETERS = {
+    "preserveboundary": True,
+    "boundaryweight": 1.0,
+    "qualitythr": 0.3,
+    "preservenormal": False,
+    "preservetopology": False,
+    "optimalplacement": True,
+    "planarquadric": False,
+    "planarweight": 0.001,
+    "qualityweight": False,
+    "autoclean": True,
+}
+
+#: fast-simplification keeps the mesh in module-level state between its calls: one at a time.
+_LOCK = threading.Lock()
+
+
+def boundary_loops(faces: np.ndarray, n_vertices: int) -> tuple[int, np.ndarray]:
+    """How many loops the open boundary forms, and its vertices (sorted, unique)."""
+    edges = boundary_edges(faces, n_vertices)
+    if len(edges) == 0:
+        return 0, np.zeros(0, dtype=np.int64)
+    graph = coo_matrix(
+        (np.ones(len(edges), dtype=np.int8), (edges[:, 0], edges[:, 1])),
+        shape=(n_vertices, n_vertices),
+    )
+    _, label = connected_components(graph, directed=False)
+    on = np.unique(edges)
+    return len(np.unique(label[on])), on
+
+
+def _within(count: int, target: int) -> bool:
+    return abs(count - target) <= TOLERANCE * target
+
+
+def _power_of_two_scale(vertices: np.ndarray) -> float:
+    """A power of two that brings the mesh's largest extent near 1 (exact to apply and undo)."""
+    extent = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
+    if not extent > 0 or not math.isfinite(extent):
+        raise ValueError("cannot decimate a mesh of zero or non-finite extent")
+    return 2.0 ** -round(math.log2(extent))
+
+
+def _quadric(vertices: np.ndarray, faces: np.ndarray, target: int):
     import fast_simplification  # a dependency; imported here, when a mesh is decimated
 
-    if faces_target >= len(faces):
-        return Outcome(vertices, faces, details={"faces_reached": len(faces)})
-    v, f = fast_simplification.simplify(
-        vertices.astype(np.float32), faces.astype(np.int32), 1.0 - faces_target / len(faces)
+    scale = _power_of_two_scale(vertices)
+    original_v = np.ascontiguousarray(vertices * scale, dtype=np.float64)
+    original_f = np.ascontiguousarray(faces, dtype=np.int64)
+    v, f = original_v, original_f
+    asked = target
+    passes = 0
+    with _LOCK:
+        for passes in range(1, ATTEMPTS + 1):  # noqa: B007 - reported
+            if asked >= len(f):
+                break
+            v, f = fast_simplification.simplify(v, f, target_count=asked, preserve_border=True)
+            v = np.ascontiguousarray(v, dtype=np.float64)
+            f = np.ascontiguousarray(f, dtype=np.int64)
+            if _within(len(f), target):
+                break
+            if len(f) < target:  # overshot: start again from the input, asking for more
+                asked = min(asked + (target - len(f)), len(original_f) - 1)
+                v, f = original_v, original_f
+            else:  # stopped above: continue from where it stopped
+                asked = target
+    return v / scale, f, passes
+
+
+def _meshlab(vertices: np.ndarray, faces: np.ndarray, target: int):
+    pymeshlab = MESHLAB.require()
+    meshes = pymeshlab.MeshSet()
+    meshes.add_mesh(
+        pymeshlab.Mesh(
+            vertex_matrix=np.ascontiguousarray(vertices, dtype=np.float64),
+            face_matrix=np.ascontiguousarray(faces, dtype=np.int32),
+        )
     )
-    return Outcome(
-        np.asarray(v, np.float64), np.asarray(f, np.int64), details={"faces_reached": len(f)}
+    meshes.meshing_decimation_quadric_edge_collapse(targetfacenum=int(target), **MESHLAB_PARAMETERS)
+    mesh = meshes.current_mesh()
+    return (
+        np.array(mesh.vertex_matrix(), dtype=np.float64),
+        np.array(mesh.face_matrix(), dtype=np.int64),
     )
+
+
+def run(
+    vertices: np.ndarray, faces: np.ndarray, *, faces_target: int, method: str = "quadric"
+) -> Outcome:
+    """Decimate to `faces_target` faces (within 1 %), keeping the open boundary.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    faces : (m, 3) int array
+        The mesh (not modified).
+    faces_target : int
+        The face count to reach (at least 4).  At or above the mesh's count
+        the mesh is returned as it is, with a note in the details.
+    method : {"quadric", "meshlab"}
+        fast-simplification's quadric edge collapse, or MeshLab's (pymeshlab).
+
+    Returns
+    -------
+    Outcome
+        The decimated mesh; ``details``: ``faces_reached``, ``boundary_loops``
+        (before, after), ``boundary_vertices`` (before, after), ``passes``
+        (quadric) or ``meshlab`` (the filter's parameters).
+
+    Raises
+    ------
+    ValueError
+        If `faces_target` is below 4 or not a whole number, or `method` is unknown.
+    MissingExtraError
+        For ``method="meshlab"`` without pymeshlab (the ``meshlab`` extra).
+    """
+    if isinstance(faces_target, bool) or not isinstance(faces_target, (int, np.integer)):
+        raise ValueError(f"faces_target must be a whole number; got {faces_target!r}")
+    if faces_target < 4:
+        raise ValueError(f"faces_target must be at least 4; got {faces_target}")
+    if method not in DECIMATORS:
+        raise ValueError(
+            f"method must be one of {', '.join(map(repr, DECIMATORS))}; got {method!r}"
+        )
+    faces_target = int(faces_target)
+    count = len(faces)
+    if faces_target >= count:
+        note = f"the mesh has {count} faces, not more than the {faces_target} asked: left as it is"
+        return Outcome(
+            vertices.copy(), faces.copy(), details={"faces_reached": count, "note": note}
+        )
+    loops_before, on_before = boundary_loops(faces, len(vertices))
+    details: dict = {}
+    if method == "quadric":
+        v, f, passes = _quadric(vertices, faces, faces_target)
+        details["passes"] = passes
+    else:
+        v, f = _meshlab(vertices, faces, faces_target)
+        details["meshlab"] = {"targetfacenum": faces_target, **MESHLAB_PARAMETERS}
+    loops_after, on_after = boundary_loops(f, len(v))
+    details = {
+        "faces_reached": len(f),
+        "boundary_loops": [loops_before, loops_after],
+        "boundary_vertices": [len(on_before), len(on_after)],
+        **details,
+    }
+    found = []
+    if not _within(len(f), faces_target):
+        found.append(
+            f"reached {len(f)} faces, more than 1 % off the {faces_target} asked "
+            f"({method} decimation could not collapse further"
+            + (" without moving the open boundary)" if loops_before else ")")
+        )
+    if loops_after != loops_before:
+        found.append(f"the open boundary had {loops_before} loops and now has {loops_after}")
+    return Outcome(v, f, details=details, warnings=tuple(found))
