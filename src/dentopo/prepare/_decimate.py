@@ -103,7 +103,7 @@ def _quadric(vertices: np.ndarray, faces: np.ndarray, target: int):
 
     scale = _power_of_two_scale(vertices)
     original_v = np.ascontiguousarray(vertices * scale, dtype=np.float64)
-    original_f = np.ascontiguousarray(faces, dtype=np.int64)
+    original_f = np.array(faces, dtype=np.int64, order="C", copy=True)  # private, writable
     v, f = original_v, original_f
     asked = target
     passes = 0
@@ -129,8 +129,8 @@ def _meshlab(vertices: np.ndarray, faces: np.ndarray, target: int):
     meshes = pymeshlab.MeshSet()
     meshes.add_mesh(
         pymeshlab.Mesh(
-            vertex_matrix=np.ascontiguousarray(vertices, dtype=np.float64),
-            face_matrix=np.ascontiguousarray(faces, dtype=np.int32),
+            vertex_matrix=np.array(vertices, dtype=np.float64, order="C", copy=True),
+            face_matrix=np.array(faces, dtype=np.int32, order="C", copy=True),
         )
     )
     meshes.meshing_decimation_quadric_edge_collapse(targetfacenum=int(target), **MESHLAB_PARAMETERS)
