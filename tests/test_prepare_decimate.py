@@ -121,6 +121,24 @@ def test_the_boundary_is_kept_exactly_on_a_hemisphere(hemisphere):
     assert _boundary_off_curve(v, f, out.vertices, out.faces) == 0.0
 
 
+def test_the_frozen_base_has_no_chord(hemisphere):
+    v, f = hemisphere
+    assert _decimate.run(v, f, faces_target=1000).details["boundary_chord"] == 0.0
+
+
+def test_sliding_keeps_the_base_on_its_curve_with_fewer_vertices(hemisphere, monkeypatch):
+    # the alternative: boundary edges collapse, moved vertices are put back on the outline
+    monkeypatch.setattr(_decimate, "BOUNDARY", "slide")
+    v, f = hemisphere
+    out = _decimate.run(v, f, faces_target=1000)
+    assert abs(len(out.faces) - 1000) <= 10
+    assert out.details["boundary_loops"] == [1, 1]
+    before, after = out.details["boundary_vertices"]
+    assert after < before / 2
+    assert _boundary_off_curve(v, f, out.vertices, out.faces) < 1e-12
+    assert 1e-3 < out.details["boundary_chord"] < 0.05  # the outline becomes chords
+
+
 def test_without_preserve_border_the_library_moves_the_base(hemisphere):
     """Why preserve_border: fast-simplification's default pulls the outline off its curve."""
     import fast_simplification
