@@ -86,10 +86,17 @@ def make_scan(crown: str, faces: int, seed: int = 1) -> trimesh.Trimesh:
 
 
 def orient_available() -> bool:
+    import warnings
+
     import dentopo
 
+    sphere = trimesh.creation.icosphere(subdivisions=2)
+    upper = sphere.vertices[sphere.faces].mean(axis=1)[:, 2] > 0
+    hemisphere = trimesh.Trimesh(sphere.vertices, sphere.faces[upper])
     try:
-        dentopo.prepare(trimesh.creation.icosphere(subdivisions=1))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            dentopo.prepare(hemisphere)
     except NotImplementedError:
         return False
     return True
