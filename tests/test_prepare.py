@@ -165,6 +165,7 @@ def test_shipped_protocols_load_by_name_and_state_a_source():
         "method": "implicit",
         "iterations": 3,
         "step": 0.1,
+        "pin_boundary": False,
     }
 
 

@@ -150,3 +150,8 @@ REPORT = Feature("collection reports", "plotly", "report")
 
 #: Every feature above, for checks and tests.
 FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, STUDY_FIGURES, EXCEL, REPORT)
+
+#: ``prepare``'s ``decimate="meshlab"``: MeshLab's quadric edge collapse (pymeshlab, GPL).
+#: Not in FEATURES: the ``meshlab`` extra is in neither ``all`` nor ``test`` (a 100 MB GPL
+#: wheel), so the tests that every feature's module is installed do not hold for it.
+MESHLAB = Feature("MeshLab's filters (decimate='meshlab')", "pymeshlab", "meshlab")

@@ -1,23 +1,298 @@
-"""The decimate step: quadric edge collapse to a face count.
+"""The decimate step: quadric edge collapse to a face count, keeping the open base.
 
-SKELETON (first version: fast-simplification, to be finished: boundary kept, within 1 %).
+``method="quadric"`` is fast-simplification's quadric edge collapse (Garland &
+Heckbert's error quadrics, Sven Forstmann's Fast-Quadric-Mesh-Simplification,
+wrapped by pyvista's fast-simplification) with its ``preserve_border=True``:
+no edge that touches a vertex of an open boundary is collapsed, so every vertex
+of the crown's open base (the cervical cut) keeps its exact position and the
+boundary loops stay as they were.  Without it the library does collapse
+boundary edges onto their midpoint or an end, which pulls the outline off its
+curve (measured: on a unit hemisphere of 10,176 faces decimated to 1,000, the
+base's vertices moved up to 0.018 off the original outline, and up to 0.096 on
+the shared ``low_hole`` crown; with ``preserve_border`` the distance is 0).
+The price is that the base keeps the scan's resolution along its outline: a
+1M-face refined crown (1,488 base vertices) decimated to 10,000 faces keeps
+2,319 faces touching the base.  The alternative kept here for comparison
+(``BOUNDARY = "slide"``: boundary edges collapse along the boundary and the
+vertices that moved are put back on the original boundary polyline) spends
+fewer faces there (147 base vertices) but turns the outline into chords that
+leave the original base vertices up to 0.021 away on the unit hemisphere
+(0.027 mm on that 5.9 mm crown): the frozen base is the default.
+``details["boundary_chord"]`` is that distance (0 when frozen).
+
+fast-simplification's aggressiveness is 3 for the first pass, not its default
+7 (a lower value follows the surface more closely, its documentation says, at
+the risk of stopping short of the target, which a pass at 7 then finishes).
+Measured as ariaDNE against the original crown, crowns refined by longest-edge
+bisection and decimated back: the shared ``high`` crown (20,000 faces, refined
+to 1M, to 10,000) -0.3 % at 3 against -8.2 % at 7; ``normal`` (8,000, 300k,
+8,000) +0.3 % against +1.2 %; ``noise1`` +1.3 % against -5.4 %.  (An extreme
+case stays off: ``low``, 2,000 faces refined 150-fold into slivers, stalls the
+library near 32,000 faces in its first pass; back at 2,000 faces it is +12 % at
+3, +60 % at 7.)
+
+The library stops once it is at or below the target, or after 100 passes of
+growing error threshold; the count it reaches is checked here and, if it is
+more than 1 % off, the decimation is continued (above the target) or redone
+with a corrected target (below it), a few times at most.  The count reached is
+``details["faces_reached"]``; a warning says if it stayed more than 1 % off
+(a target too small for the base's frozen ring, for instance).
+
+The library's thresholds are absolute (squared-distance errors), so the mesh is
+scaled by a power of two to a size near 1 before decimating and scaled back
+after (exact in floating point: kept boundary vertices come back bit for bit),
+which makes the result independent of the mesh's unit.  The collapse order is
+deterministic: the same input gives the same arrays, bit for bit.
+
+``method="meshlab"`` is MeshLab's own quadric edge collapse
+(``meshing_decimation_quadric_edge_collapse`` through pymeshlab, an optional
+extra under the GPL: ``pip install 'dentopo[meshlab]'``), with the boundary
+preserved (MeshLab then keeps its vertices too), normals preserved, topology
+preserved and planar simplification on, MeshLab's defaults otherwise
+(:data:`MESHLAB_PARAMETERS`).  MeshLab's defaults alone (no normal check)
+fold the surface of a refined scan: the 1M-face ``high`` crown to 10,000
+faces had ariaDNE 0.240 against the original's 0.119; with these, 0.121.
+
+A target at or above the mesh's face count leaves the mesh as it is (a note
+in the details says so); a target below 4 faces is an error.
 """
 
 from __future__ import annotations
 
-import numpy as np
+import math
+import threading
 
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from .._optional import MESHLAB
+from ..mesh import boundary_edges
+from ._protocol import DECIMATORS
 from ._result import Outcome
 
+#: How close to the target the face count must land (a fraction of the target).
+TOLERANCE = 0.01
 
-def run(vertices: np.ndarray, faces: np.ndarray, *, faces_target: int, method: str) -> Outcome:
+#: How many times the quadric decimation is continued or redone to land within TOLERANCE.
+ATTEMPTS = 4
+
+#: fast-simplification's aggressiveness (its default 7) for the first pass, and for the passes
+#: that continue one that stopped above the target.
+AGGRESSIVENESS = (3.0, 7.0)
+
+#: How the open boundary is kept: "freeze" (no collapse touches it) or "slide" (boundary edges
+#: collapse along the boundary, the vertices moved back onto the original boundary curve).
+BOUNDARY = "freeze"
+
+#: MeshLab's quadric edge collapse parameters besides the target: its defaults but the
+#: boundary, normals and topology preserved and planar simplification on (module docstring).
+MESHLAB_PARAMETERS = {
+    "preserveboundary": True,
+    "boundaryweight": 1.0,
+    "qualitythr": 0.3,
+    "preservenormal": True,
+    "preservetopology": True,
+    "optimalplacement": True,
+    "planarquadric": True,
+    "planarweight": 0.001,
+    "qualityweight": False,
+    "autoclean": True,
+}
+
+#: fast-simplification keeps the mesh in module-level state between its calls: one at a time.
+_LOCK = threading.Lock()
+
+
+def boundary_loops(faces: np.ndarray, n_vertices: int) -> tuple[int, np.ndarray]:
+    """How many loops the open boundary forms, and its vertices (sorted, unique)."""
+    edges = boundary_edges(faces, n_vertices)
+    if len(edges) == 0:
+        return 0, np.zeros(0, dtype=np.int64)
+    graph = coo_matrix(
+        (np.ones(len(edges), dtype=np.int8), (edges[:, 0], edges[:, 1])),
+        shape=(n_vertices, n_vertices),
+    )
+    _, label = connected_components(graph, directed=False)
+    on = np.unique(edges)
+    return len(np.unique(label[on])), on
+
+
+def _within(count: int, target: int) -> bool:
+    return abs(count - target) <= TOLERANCE * target
+
+
+def _power_of_two_scale(vertices: np.ndarray) -> float:
+    """A power of two that brings the mesh's largest extent near 1 (exact to apply and undo)."""
+    extent = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
+    if not extent > 0 or not math.isfinite(extent):
+        raise ValueError("cannot decimate a mesh of zero or non-finite extent")
+    return 2.0 ** -round(math.log2(extent))
+
+
+def _quadric(vertices: np.ndarray, faces: np.ndarray, target: int):
     import fast_simplification  # a dependency; imported here, when a mesh is decimated
 
-    if faces_target >= len(faces):
-        return Outcome(vertices, faces, details={"faces_reached": len(faces)})
-    v, f = fast_simplification.simplify(
-        vertices.astype(np.float32), faces.astype(np.int32), 1.0 - faces_target / len(faces)
+    scale = _power_of_two_scale(vertices)
+    original_v = np.ascontiguousarray(vertices * scale, dtype=np.float64)
+    original_f = np.array(faces, dtype=np.int64, order="C", copy=True)  # private, writable
+    v, f = original_v, original_f
+    asked = target
+    passes = 0
+    with _LOCK:
+        for passes in range(1, ATTEMPTS + 1):
+            if asked >= len(f):
+                break
+            agg = AGGRESSIVENESS[0] if passes == 1 else AGGRESSIVENESS[1]
+            v, f = fast_simplification.simplify(
+                v, f, target_count=asked, agg=agg, preserve_border=BOUNDARY == "freeze"
+            )
+            v = np.ascontiguousarray(v, dtype=np.float64)
+            f = np.ascontiguousarray(f, dtype=np.int64)
+            if _within(len(f), target):
+                break
+            if len(f) < target:  # overshot: start again from the input, asking for more
+                asked = min(asked + (target - len(f)), len(original_f) - 1)
+                v, f = original_v, original_f
+            else:  # stopped above: continue from where it stopped
+                asked = target
+    if BOUNDARY == "slide":
+        v = _onto_boundary(v, f, original_v, original_f)
+    return v / scale, f, passes
+
+
+def nearest_on_segments(points, starts, ends) -> tuple[np.ndarray, np.ndarray]:
+    """The nearest point to each of `points` on the segments ``starts[i]-ends[i]``, and its
+    distance (among the 16 segments whose midpoints are nearest: exact for a polyline much
+    finer than its distance to the points)."""
+    from scipy.spatial import cKDTree
+
+    points = np.asarray(points, dtype=np.float64)
+    k = min(16, len(starts))
+    _, near = cKDTree(0.5 * (starts + ends)).query(points, k=k)
+    near = np.asarray(near).reshape(len(points), k)
+    a, d = starts[near], ends[near] - starts[near]  # (p, k, 3)
+    p = points[:, None, :]
+    length2 = np.maximum(np.einsum("pkj,pkj->pk", d, d), np.finfo(float).tiny)
+    t = np.clip(np.einsum("pkj,pkj->pk", p - a, d) / length2, 0.0, 1.0)
+    foot = a + t[..., None] * d
+    distance2 = ((foot - p) ** 2).sum(axis=2)
+    best = np.argmin(distance2, axis=1)
+    rows = np.arange(len(points))
+    return foot[rows, best], np.sqrt(distance2[rows, best])
+
+
+def _onto_boundary(v, f, original_v, original_f):
+    """Boundary vertices of (v, f) that are not vertices of the original boundary, moved to
+    the nearest point of the original boundary polyline (a new array)."""
+    edges = boundary_edges(original_f, len(original_v))
+    _, on = boundary_loops(f, len(v))
+    if len(edges) == 0 or len(on) == 0:
+        return v
+    kept = {row.tobytes() for row in original_v[np.unique(edges)]}
+    moved = np.array([i for i in on if v[i].tobytes() not in kept], dtype=np.int64)
+    if len(moved) == 0:
+        return v
+    out = v.copy()
+    out[moved], _ = nearest_on_segments(v[moved], original_v[edges[:, 0]], original_v[edges[:, 1]])
+    return out
+
+
+def _chord(vertices, faces, v, f) -> float:
+    """How far the original boundary's vertices lie from the new boundary (0 if none)."""
+    before = boundary_edges(faces, len(vertices))
+    after = boundary_edges(f, len(v))
+    if len(before) == 0 or len(after) == 0:
+        return 0.0
+    _, distance = nearest_on_segments(vertices[np.unique(before)], v[after[:, 0]], v[after[:, 1]])
+    return float(distance.max())
+
+
+def _meshlab(vertices: np.ndarray, faces: np.ndarray, target: int):
+    pymeshlab = MESHLAB.require()
+    meshes = pymeshlab.MeshSet()
+    meshes.add_mesh(
+        pymeshlab.Mesh(
+            vertex_matrix=np.array(vertices, dtype=np.float64, order="C", copy=True),
+            face_matrix=np.array(faces, dtype=np.int32, order="C", copy=True),
+        )
     )
-    return Outcome(
-        np.asarray(v, np.float64), np.asarray(f, np.int64), details={"faces_reached": len(f)}
+    meshes.meshing_decimation_quadric_edge_collapse(targetfacenum=int(target), **MESHLAB_PARAMETERS)
+    mesh = meshes.current_mesh()
+    return (
+        np.array(mesh.vertex_matrix(), dtype=np.float64),
+        np.array(mesh.face_matrix(), dtype=np.int64),
     )
+
+
+def run(
+    vertices: np.ndarray, faces: np.ndarray, *, faces_target: int, method: str = "quadric"
+) -> Outcome:
+    """Decimate to `faces_target` faces (within 1 %), keeping the open boundary.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float array
+    faces : (m, 3) int array
+        The mesh (not modified).
+    faces_target : int
+        The face count to reach (at least 4).  At or above the mesh's count
+        the mesh is returned as it is, with a note in the details.
+    method : {"quadric", "meshlab"}
+        fast-simplification's quadric edge collapse, or MeshLab's (pymeshlab).
+
+    Returns
+    -------
+    Outcome
+        The decimated mesh; ``details``: ``faces_reached``, ``boundary_loops``
+        (before, after), ``boundary_vertices`` (before, after), ``passes``
+        (quadric) or ``meshlab`` (the filter's parameters).
+
+    Raises
+    ------
+    ValueError
+        If `faces_target` is below 4 or not a whole number, or `method` is unknown.
+    MissingExtraError
+        For ``method="meshlab"`` without pymeshlab (the ``meshlab`` extra).
+    """
+    if isinstance(faces_target, bool) or not isinstance(faces_target, (int, np.integer)):
+        raise ValueError(f"faces_target must be a whole number; got {faces_target!r}")
+    if faces_target < 4:
+        raise ValueError(f"faces_target must be at least 4; got {faces_target}")
+    if method not in DECIMATORS:
+        raise ValueError(
+            f"method must be one of {', '.join(map(repr, DECIMATORS))}; got {method!r}"
+        )
+    faces_target = int(faces_target)
+    count = len(faces)
+    if faces_target >= count:
+        note = f"the mesh has {count} faces, not more than the {faces_target} asked: left as it is"
+        return Outcome(
+            vertices.copy(), faces.copy(), details={"faces_reached": count, "note": note}
+        )
+    loops_before, on_before = boundary_loops(faces, len(vertices))
+    details: dict = {}
+    if method == "quadric":
+        v, f, passes = _quadric(vertices, faces, faces_target)
+        details["passes"] = passes
+        details["boundary_chord"] = _chord(vertices, faces, v, f)
+    else:
+        v, f = _meshlab(vertices, faces, faces_target)
+        details["meshlab"] = {"targetfacenum": faces_target, **MESHLAB_PARAMETERS}
+    loops_after, on_after = boundary_loops(f, len(v))
+    details = {
+        "faces_reached": len(f),
+        "boundary_loops": [loops_before, loops_after],
+        "boundary_vertices": [len(on_before), len(on_after)],
+        **details,
+    }
+    found = []
+    if not _within(len(f), faces_target):
+        found.append(
+            f"reached {len(f)} faces, more than 1 % off the {faces_target} asked "
+            f"({method} decimation could not collapse further"
+            + (" without moving the open boundary)" if loops_before else ")")
+        )
+    if loops_after != loops_before:
+        found.append(f"the open boundary had {loops_before} loops and now has {loops_after}")
+    return Outcome(v, f, details=details, warnings=tuple(found))

@@ -22,6 +22,7 @@ same whatever later versions change.  Its layout, a table per step::
     method = "implicit"       # laplacian, taubin, hc or implicit
     iterations = 3
     step = 0.1
+    pin_boundary = true       # the open base's vertices stay put (false: the filter as published)
 
 The :attr:`Protocol.digest` is the SHA-256 of the steps' parameters in a
 canonical form (the name and description left out): two protocols that do the
@@ -58,13 +59,13 @@ DECIMATORS = ("quadric", "meshlab")
 
 #: ``smooth`` methods, and their default parameters (iterations, step, mu).
 SMOOTHERS = {
-    # trimesh.smoothing.filter_laplacian's defaults
+    # trimesh.smoothing.filter_laplacian's defaults (lamb); run without its volume constraint
     "laplacian": {"iterations": 10, "step": 0.5, "mu": None},
     # trimesh.smoothing.filter_taubin's defaults (lamb, nu)
     "taubin": {"iterations": 10, "step": 0.5, "mu": 0.5},
     # trimesh.smoothing.filter_humphrey's defaults (alpha, beta)
     "hc": {"iterations": 10, "step": 0.1, "mu": 0.5},
-    # implicit fairing (Desbrun et al. 1999) as MorphoTester applies it
+    # implicit fairing (Desbrun et al. 1999) as MorphoTester applies it (its defaults)
     "implicit": {"iterations": 3, "step": 0.1, "mu": None},
 }
 
@@ -79,6 +80,7 @@ _TABLES = {
         "iterations": "smooth_iterations",
         "step": "smooth_step",
         "mu": "smooth_mu",
+        "pin_boundary": "smooth_pin_boundary",
     },
 }
 
@@ -172,6 +174,10 @@ class Protocol:
     smooth_step, smooth_mu : float or None
         The method's step (Laplacian's and Taubin's lambda, HC's alpha, implicit
         fairing's time step) and second parameter (Taubin's nu, HC's beta).
+    smooth_pin_boundary : bool
+        Keep the open boundary's vertices (a crown's base outline) where they
+        are while smoothing (default); False runs the filters as published,
+        which pull the boundary inwards.
     """
 
     name: str = "custom"
@@ -191,6 +197,7 @@ class Protocol:
     smooth_iterations: int | None = None
     smooth_step: float | None = None
     smooth_mu: float | None = None
+    smooth_pin_boundary: bool = True
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -232,8 +239,14 @@ class Protocol:
         _choice("decimate", self.decimate, DECIMATORS)
         if self.smooth is not None:
             _choice("smooth", self.smooth, tuple(SMOOTHERS))
-        elif any(v is not None for v in (self.smooth_iterations, self.smooth_step, self.smooth_mu)):
+        elif any(
+            v is not None for v in (self.smooth_iterations, self.smooth_step, self.smooth_mu)
+        ) or (self.smooth_pin_boundary is not True):
             raise ProtocolError("smoothing parameters need a smooth method")
+        if not isinstance(self.smooth_pin_boundary, bool):
+            raise ProtocolError(
+                f"smooth_pin_boundary must be true or false; got {self.smooth_pin_boundary!r}"
+            )
         if self.smooth_iterations is not None:
             set_(
                 self,
@@ -264,7 +277,8 @@ class Protocol:
             "mu": self.smooth_mu,
         }
         found = {key: default[key] if given[key] is None else given[key] for key in default}
-        return {"method": self.smooth, **{k: v for k, v in found.items() if v is not None}}
+        found = {k: v for k, v in found.items() if v is not None}
+        return {"method": self.smooth, **found, "pin_boundary": self.smooth_pin_boundary}
 
     def steps(self) -> dict[str, dict]:
         """Each step that runs, in order, with its parameters (the protocol's canonical form)."""
