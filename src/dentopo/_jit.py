@@ -26,12 +26,22 @@ May import: nothing of dentopo (every subpackage may import it).
 
 from __future__ import annotations
 
+import os
 import signal
 import threading
 import time
 
+import numba
 from numba import njit, prange
 from numba.core import event
+
+# OpenMP first, then TBB: the layer numba picks anyway where no TBB is installed (the usual
+# case), and no warning where another package has loaded an older TBB than numba accepts
+# (pymeshlab, the optional ``meshlab`` extra, bundles one: numba then warns that "the TBB
+# threading layer is disabled" on its first parallel kernel).  An explicit
+# NUMBA_THREADING_LAYER_PRIORITY in the environment is left as it is.
+if "NUMBA_THREADING_LAYER_PRIORITY" not in os.environ:
+    numba.config.THREADING_LAYER_PRIORITY = ["omp", "tbb", "workqueue"]
 
 __all__ = ["compile_seconds", "njit", "prange"]
 
