@@ -179,6 +179,18 @@ def test_save_protocol_then_protocol_gives_the_same_outputs(raw, tmp_path, capsy
     assert tree(tmp_path / "a") == tree(tmp_path / "b")
 
 
+def test_smooth_base_free_runs_the_filter_as_published(tmp_path, capsys):
+    saved = tmp_path / "p.toml"
+    code, err = run(capsys, "--smooth", "hc", "--smooth-base", "free", "--save-protocol", saved)
+    assert code == 0, err
+    assert read_protocol(saved).smooth_pin_boundary is False
+    code, err = run(capsys, "--smooth", "hc", "--save-protocol", saved)
+    assert code == 0, err
+    assert read_protocol(saved).smooth_pin_boundary is True
+    code, err = run(capsys, "--smooth-base", "free", "--save-protocol", saved)
+    assert code == 2 and "--smooth" in err
+
+
 def test_save_protocol_alone_writes_only_the_protocol(tmp_path, capsys):
     saved = tmp_path / "p.toml"
     code, err = run(capsys, "--faces", "5000", "--orient", "none", "--save-protocol", saved)

@@ -114,10 +114,19 @@ def test_toml_round_trip(tmp_path):
 
 
 def test_every_field_survives_the_file(tmp_path):
-    for protocol in [Protocol(), Protocol(clean=False, orient="none"), Protocol(crop_below=2.5)]:
+    for protocol in [
+        Protocol(),
+        Protocol(clean=False, orient="none"),
+        Protocol(crop_below=2.5),
+        Protocol(decimate="meshlab"),
+        Protocol(smooth="implicit", smooth_pin_boundary=False),
+    ]:
         path = tmp_path / "p.toml"
         path.write_text(protocol.to_toml(), encoding="utf-8")
-        assert read_protocol(path) == protocol
+        back = read_protocol(path)
+        assert back.to_toml() == protocol.to_toml() and back.digest == protocol.digest
+        if protocol.smooth is None:  # smoothing's defaults are written out, filled in
+            assert back == protocol
 
 
 @pytest.mark.parametrize(

@@ -79,6 +79,7 @@ FIELD_OPTIONS = {
     "smooth_iterations": "--smooth METHOD:ITERATIONS",
     "smooth_step": "--smooth-step",
     "smooth_mu": "--smooth-mu",
+    "smooth_pin_boundary": "--smooth-base",
 }
 
 
@@ -200,6 +201,12 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="MU",
         help="Taubin's nu, HC's beta",
     )
+    protocol.add_argument(
+        "--smooth-base",
+        choices=("pinned", "free"),
+        help="pinned (the default): the open base's vertices stay where they are; free: the "
+        "filter as published, which pulls the base inwards",
+    )
     run = parser.add_argument_group("running")
     run.add_argument(
         "--preview",
@@ -256,7 +263,7 @@ _FIELD = re.compile(
 def option_message(message: str, parser: argparse.ArgumentParser) -> str:
     """A :class:`ProtocolError` message about the options, in the command's words."""
     if message.startswith("smoothing parameters need"):
-        return "--smooth-step and --smooth-mu need --smooth METHOD"
+        return "--smooth-step, --smooth-mu and --smooth-base need --smooth METHOD"
     message = CommandLineHints(parser)(message)  # orient='occlusal' -> --orient occlusal
 
     def named(match: re.Match) -> str:
@@ -291,6 +298,8 @@ def _changes(args) -> dict:
         value = getattr(args, name)
         if value is not None:
             changes[name] = value
+    if args.smooth_base is not None:
+        changes["smooth_pin_boundary"] = args.smooth_base == "pinned"
     if args.smooth is not None:
         method, iterations = _smooth(args.smooth)
         changes["smooth"] = method
@@ -325,6 +334,7 @@ def make_protocol(args, parser):
         # another method: the file's parameters were for its own method
         for key in ("smooth_iterations", "smooth_step", "smooth_mu"):
             changes.setdefault(key, None)
+        changes.setdefault("smooth_pin_boundary", True)
     if changes.get("orient") == "none":
         changes.setdefault("up", None)
         changes.setdefault("spin", "none")

@@ -84,6 +84,13 @@ _TABLES = {
     },
 }
 
+#: The comment under a step's table in a written protocol when the step does not run.
+_NOT_DONE = {
+    "crop": "no crop (below = H, fraction = F or plane = [px, py, pz, nx, ny, nz])",
+    "decimate": "no decimation (faces = N)",
+    "smooth": "no smoothing (method = laplacian, taubin, hc or implicit)",
+}
+
 #: The fields that describe a protocol and are left out of its digest.
 _DESCRIPTIVE = ("name", "description", "source")
 
@@ -350,9 +357,17 @@ class Protocol:
         for table, values in tables.items():
             lines.append("")
             lines.append(f"[{table}]")
-            for key, value in values.items():
-                if value is not None:
-                    lines.append(f"{key} = {_toml(value)}")
+            given = [(key, value) for key, value in values.items() if value is not None]
+            given = [
+                (k, v)
+                for k, v in given
+                # the method alone, at its default, says nothing: no decimation
+                if not (table == "decimate" and k == "method" and v == DECIMATORS[0])
+                or values["faces"] is not None
+            ]
+            lines += [f"{key} = {_toml(value)}" for key, value in given]
+            if not given:
+                lines.append(f"# {_NOT_DONE[table]}")
         return "\n".join(lines) + "\n"
 
     @classmethod
