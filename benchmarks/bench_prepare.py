@@ -13,18 +13,16 @@ scanner leaves), written as binary PLY to a temporary folder.  Then, each as
 a fresh Python process (imports, reading and everything included), run in
 turn ``--repeat`` times, the median wall time of:
 
-* ``prepare``: ``dentopo.prepare(scan, faces=10000)`` (clean keeping the
-  largest piece, orient, decimate keeping the base) and writing the PLY:
-  what ``dentopo prepare scan.ply -o out --faces 10000`` does;
+* ``prepare``: the command ``dentopo prepare scan.ply -o out --faces 10000``
+  (clean keeping the largest piece, orient, decimate keeping the base, and
+  writing the PLY and its record);
 * ``baseline``: ``trimesh.load(scan)`` and ``fast_simplification.simplify``
   to the same count, nothing else (no cleaning, no orienting, the base not
   kept).
 
 It prints both and their ratio (the issue's target: at most 3), then with
-``--profile`` the time of each stage of the pipeline in this process.  Where
-the orient step is not written yet the pipeline runs with ``orient="none"``
-(said in the output).  Nothing here is a test: timings depend on the machine
-and its load.
+``--profile`` the time of each stage of the pipeline in this process.
+Nothing here is a test: timings depend on the machine and its load.
 """
 
 from __future__ import annotations
@@ -43,11 +41,10 @@ import trimesh
 SHARED_MESHES = Path(__file__).resolve().parents[2] / "shared" / "data" / "meshes"
 
 PREPARE = """
-import sys, time
-import dentopo
-scan, out, faces, orient = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4]
-crown = dentopo.prepare(scan, faces=faces, orient=orient)
-crown.mesh.export(out)
+import sys
+from dentopo.cli import main
+scan, out, faces = sys.argv[1], sys.argv[2], sys.argv[3]
+sys.exit(main(["prepare", scan, "-o", out, "--faces", faces, "-q"]))
 """
 
 BASELINE = """
@@ -83,23 +80,6 @@ def make_scan(crown: str, faces: int, seed: int = 1) -> trimesh.Trimesh:
     rotation = trimesh.transformations.random_rotation_matrix(rng.random(3))
     scan.apply_transform(rotation)
     return scan
-
-
-def orient_available() -> bool:
-    import warnings
-
-    import dentopo
-
-    sphere = trimesh.creation.icosphere(subdivisions=2)
-    upper = sphere.vertices[sphere.faces].mean(axis=1)[:, 2] > 0
-    hemisphere = trimesh.Trimesh(sphere.vertices, sphere.faces[upper])
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            dentopo.prepare(hemisphere)
-    except NotImplementedError:
-        return False
-    return True
 
 
 def fresh_process_seconds(code: str, *args: str) -> float:
@@ -141,17 +121,16 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--profile", action="store_true", help="time each stage too")
     args = parser.parse_args()
-    orient = "occlusal" if orient_available() else "none"
-    if orient == "none":
-        print("(the orient step is not written yet: prepare runs with orient='none')")
+    orient = "occlusal"
     with tempfile.TemporaryDirectory() as folder:
         scan_path = Path(folder) / "scan.ply"
         scan = make_scan(args.crown, args.scan_faces)
         scan_path.write_bytes(scan.export(file_type="ply"))
         size = scan_path.stat().st_size / 1e6
         print(f"scan: {len(scan.faces)} faces, {len(scan.vertices)} vertices ({size:.0f} MB)")
-        out = str(Path(folder) / "out.ply")
-        argv = (str(scan_path), out, str(args.faces), orient)
+        out_dir = Path(folder) / "out"
+        out = str(out_dir / "scan.ply")
+        argv = (str(scan_path), str(out_dir), str(args.faces))
         fresh_process_seconds(PREPARE, *argv)  # warm the disk cache and numba's kernel cache
         times = {"prepare": [], "baseline": []}
         for _ in range(args.repeat):

@@ -1,4 +1,4 @@
-"""The protocol study on the robustness set's six crowns: how much each metric moves.
+"""The protocol study on the paper's robustness set: how much each metric moves.
 
 Usage (from the repository root, with the project's environment)::
 
@@ -7,13 +7,15 @@ Usage (from the repository root, with the project's environment)::
     .venv/bin/python benchmarks/protocol_sensitivity.py -o benchmarks/out/sensitivity  # + files
 
 Spradley et al. (2017) asked how much smoothing and simplification move DNE, RFI and OPCR.
-This runs `dentopo.protocol_study` on the six crowns of ``../shared/data/meshes``
-(``000119433.ply`` ... ``000576115.ply``, closed surfaces; ``--data`` to change, ``--crowns
-normal`` for the paper's open robustness crown) with the face counts 2k, 5k,
-10k, 20k, 40k, Taubin smoothing (the protocol's ``taubin``: lambda 0.5, nu 0.5) for 3, 10,
-30 and 100 iterations, and the robustness study's noise (sd 1e-3 and 2e-3 on the unit-area
-scale), every metric of the batch, and prints each quantity's median relative change (%)
-across the crowns, with the number of crowns where it was missing.
+This runs `dentopo.protocol_study` on the paper's robustness set in ``../shared/data/meshes``
+(``normal``, ``low``, ``high``, ``noise1``, ``noise2``, ``smooth``: one open crown meshed six
+ways; ``--data`` to change the folder, ``--crowns 000119433 ...`` for the closed museum
+specimens) with the face counts 2k, 5k, 10k, 20k, 40k, Taubin smoothing (the protocol's
+``taubin``: lambda 0.5, nu 0.5, the base pinned; ``--smooth implicit`` for MorphoTester's)
+for 2, 10, 30 and 100 iterations (even counts: trimesh counts Taubin's passes singly), and
+the robustness study's noise (sd 1e-3 and 2e-3 on the unit-area scale), every metric of
+the batch, and prints each quantity's median relative change (%) across the crowns, with the
+number of crowns where it was missing.
 """
 
 from __future__ import annotations
@@ -28,9 +30,9 @@ from dentopo.batch._measure import TopographyOptions
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_DATA = ROOT.parent / "shared" / "data" / "meshes"
-CROWNS = ("000119433", "000120565", "000121104", "000122274", "000458120", "000576115")
+CROWNS = ("normal", "low", "high", "noise1", "noise2", "smooth")
 FACES = (2000, 5000, 10000, 20000, 40000)
-SMOOTHING = (0, 3, 10, 30, 100)
+SMOOTHING = (0, 2, 10, 30, 100)
 NOISE = (0.0, 1e-3, 2e-3)
 
 

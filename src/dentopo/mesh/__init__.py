@@ -14,6 +14,7 @@ May import: numpy, scipy, numba, trimesh, and dentopo's private ``_jit`` (numba'
 is the bottom layer.
 """
 
+from ._faces import first_faces
 from ._ply import read_ply
 from ._prepare import (
     PreparedMesh,
@@ -42,6 +43,7 @@ __all__ = [
     "check_geometry",
     "clean",
     "close_holes",
+    "first_faces",
     "length_scale",
     "load_mesh",
     "merge_vertices",
