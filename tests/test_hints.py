@@ -81,3 +81,17 @@ def test_a_tuple_keyword_becomes_one_comma_separated_value():
     assert hints("by hand with up=(x, y, z)") == "by hand with --up X,Y,Z"
     assert hints("say up=(0, 0.5, 1).") == "say --up 0,0.5,1."
     assert hints("spin=(1, 2)") == "spin=(1, 2)"  # no such option: left as it is
+
+
+def test_every_keyword_hint_of_the_preparation_names_an_option_of_its_command():
+    """``dentopo prepare`` shows the prepare steps' advice (``up=(x, y, z)``) as its options."""
+    from dentopo.cli._prepare import build_parser as prepare_parser
+
+    prepare_hints = CommandLineHints(prepare_parser())
+    advised = set()
+    pattern = re.compile(r"(?:with|use|try|give [^.;]* with) ([a-z_]+)=")
+    for path in (SRC / "prepare").rglob("*.py"):
+        advised.update(pattern.findall(path.read_text()))
+    assert "up" in advised
+    for name in advised:
+        assert name in prepare_hints.options, f"prepare advises {name}=, which its command lacks"
