@@ -397,9 +397,10 @@ def prepare_surface(mesh, orient: str | None = None, *, duplicates: str = "drop"
     Raises
     ------
     TypeError, ValueError
-        For an unusable mesh or option, a mesh with no face of non-zero area, or
-        faces too small or too large for the metrics' single-precision
-        arithmetic (``check_scale``).
+        For an unusable mesh or option, or a mesh with no face of non-zero area.
+        (Faces too small or too large for single precision are refused by the
+        metrics that compute in it, through :func:`molar_face_areas`; classic
+        DNE, OPC and ARC measure them right.)
 
     Warns
     -----
@@ -421,7 +422,6 @@ def prepare_surface(mesh, orient: str | None = None, *, duplicates: str = "drop"
         dropped = len(faces) - kept
         if dropped:
             faces, cross, norm = faces[keep], cross[keep], norm[keep]
-        check_scale(norm)
         first, reverse = repeated_faces(faces)
         repeat = first != np.arange(len(faces))
         repeats = int(np.count_nonzero(repeat))
