@@ -104,9 +104,15 @@ MESHLAB_PARAMETERS = {
 _LOCK = threading.Lock()
 
 
-def boundary_loops(faces: np.ndarray, n_vertices: int) -> tuple[int, np.ndarray]:
-    """How many loops the open boundary forms, and its vertices (sorted, unique)."""
-    edges = boundary_edges(faces, n_vertices)
+def boundary_loops(
+    faces: np.ndarray, n_vertices: int, edges: np.ndarray | None = None
+) -> tuple[int, np.ndarray]:
+    """How many loops the open boundary forms, and its vertices (sorted, unique).
+
+    `edges`: the boundary edges (:func:`dentopo.mesh.boundary_edges`), if the caller has them.
+    """
+    if edges is None:
+        edges = boundary_edges(faces, n_vertices)
     if len(edges) == 0:
         return 0, np.zeros(0, dtype=np.int64)
     graph = coo_matrix(
@@ -198,9 +204,11 @@ def _onto_boundary(v, f, original_v, original_f):
     return out
 
 
-def _chord(vertices, faces, v, f) -> float:
-    """How far the original boundary's vertices lie from the new boundary (0 if none)."""
-    before = boundary_edges(faces, len(vertices))
+def _chord(vertices, before, v, f) -> float:
+    """How far the original boundary's vertices lie from the new boundary (0 if none).
+
+    `before`: the original mesh's boundary edges.
+    """
     after = boundary_edges(f, len(v))
     if len(before) == 0 or len(after) == 0:
         return 0.0
@@ -288,12 +296,13 @@ def run(
         return Outcome(
             vertices.copy(), faces.copy(), details={"faces_reached": count, "note": note}
         )
-    loops_before, on_before = boundary_loops(faces, len(vertices))
+    edges_before = boundary_edges(faces, len(vertices))
+    loops_before, on_before = boundary_loops(faces, len(vertices), edges_before)
     details: dict = {}
     if method == "quadric":
         v, f, passes = _quadric(vertices, faces, faces_target)
         details["passes"] = passes
-        details["boundary_chord"] = _chord(vertices, faces, v, f)
+        details["boundary_chord"] = _chord(vertices, edges_before, v, f)
     else:
         v, f = _meshlab(vertices, faces, faces_target)
         details["meshlab"] = {"targetfacenum": faces_target, **MESHLAB_PARAMETERS}
