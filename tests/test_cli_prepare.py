@@ -343,9 +343,8 @@ def test_preview_pictures_and_sheet(raw, tmp_path, capsys):
     pytest.importorskip("pyvista", reason="pyvista (the viz extra) draws the previews")
     image = pytest.importorskip("PIL.Image", reason="Pillow reads the PNGs")
     previews = tmp_path / "previews"
-    code, err = run(
-        capsys, raw, "-o", tmp_path / "out", *KEEP, "--faces", "300", "--preview", previews
-    )
+    argv = [raw, "-o", tmp_path / "out", *KEEP, "--faces", "300", "--preview", previews]
+    code, err = run(capsys, *argv)
     assert code == 0, err
     pictures = [
         previews / "tooth.png",
@@ -359,32 +358,10 @@ def test_preview_pictures_and_sheet(raw, tmp_path, capsys):
             assert pixels.std() > 5  # not blank: a crown is drawn
     with image.open(previews / "sheet.png") as sheet:
         assert sheet.format == "PNG" and sheet.width >= 440 and sheet.height >= 220
-    code, err = run(
-        capsys,
-        raw,
-        "-o",
-        tmp_path / "out",
-        *KEEP,
-        "--faces",
-        "300",
-        "--preview",
-        previews,
-        "--resume",
-    )
+    code, err = run(capsys, *argv, "--resume")
     assert code == 0 and "3 of 3 files already done" in err
     os.unlink(pictures[0])  # a preview lost: that file is redone
-    code, err = run(
-        capsys,
-        raw,
-        "-o",
-        tmp_path / "out",
-        *KEEP,
-        "--faces",
-        "300",
-        "--preview",
-        previews,
-        "--resume",
-    )
+    code, err = run(capsys, *argv, "--resume")
     assert code == 0 and "2 of 3 files already done" in err and pictures[0].is_file()
 
 

@@ -68,35 +68,7 @@ def _runs(protocol: Protocol):
 
 
 def run(mesh, protocol=None, *, geometry: str | None = None, **changes) -> PreparedCrown:
-    """Prepare a raw scan for measuring: clean, orient, crop, decimate, smooth, as a protocol says.
-
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh, str, path-like, or (vertices, faces)
-        The raw mesh (never modified).
-    protocol : Protocol, str, path-like or None
-        The protocol: a :class:`Protocol`, the name of a shipped one
-        (:func:`named_protocols`), a TOML file, or None for the defaults (clean
-        keeping the largest piece, orient occlusal side up).
-    geometry : str, optional
-        Which mesh of a file holding several (see :func:`dentopo.load_mesh`).
-    **changes
-        Protocol parameters that replace the protocol's (``faces=10000``,
-        ``smooth="implicit"``, ``crop_fraction=0.6``...; see :class:`Protocol`).
-
-    Returns
-    -------
-    PreparedCrown
-        The prepared mesh, each step with its parameters and effects, the
-        rigid transform applied, and warnings (also issued as ``PrepareWarning``).
-
-    Raises
-    ------
-    ProtocolError
-        If a parameter is wrong (named).
-    ValueError
-        If the mesh is invalid, or a step leaves nothing (the step and its plane named).
-    """
+    """Run `protocol`, changed by `changes`, on `mesh` (documented at :func:`dentopo.prepare`)."""
     protocol = load_protocol(protocol)
     if changes:
         protocol = protocol.replace(**changes)
@@ -109,13 +81,14 @@ def run(mesh, protocol=None, *, geometry: str | None = None, **changes) -> Prepa
     transform = np.eye(4)
     steps: list[Step] = []
     found_warnings: list[str] = []
+    area = _area(vertices, faces)
     for name, parameters, function, options in _runs(protocol):
-        area_before = _area(vertices, faces)
         outcome: Outcome = function(vertices, faces, **options)
         v = np.asarray(outcome.vertices, dtype=np.float64)
         f = np.asarray(outcome.faces, dtype=np.int64)
         if len(f) == 0:
             raise ValueError(f"the {name} step left no faces")
+        area_after = _area(v, f)
         step_transform = None
         if outcome.transform is not None:
             step_transform = frozen_array(outcome.transform, np.float64)
@@ -132,8 +105,8 @@ def run(mesh, protocol=None, *, geometry: str | None = None, **changes) -> Prepa
                 vertices_after=len(v),
                 faces_before=len(faces),
                 faces_after=len(f),
-                area_before=area_before,
-                area_after=_area(v, f),
+                area_before=area,
+                area_after=area_after,
                 transform=step_transform,
                 plane=plane,
                 pieces_removed=int(outcome.pieces_removed),
@@ -142,7 +115,7 @@ def run(mesh, protocol=None, *, geometry: str | None = None, **changes) -> Prepa
             )
         )
         found_warnings.extend(f"{name}: {text}" for text in outcome.warnings)
-        vertices, faces = v, f
+        vertices, faces, area = v, f, area_after
     for text in found_warnings:
         warnings.warn(text, PrepareWarning, stacklevel=2)
     return PreparedCrown(
