@@ -148,8 +148,12 @@ EXCEL = Feature("Excel tables", "openpyxl", "excel")
 #: The collection report's plots and 3D views (plotly.js, inlined into the page).
 REPORT = Feature("collection reports", "plotly", "report")
 
+#: ``dentopo app``: its web framework and its server.
+APP = Feature("web pages served by dentopo app", "starlette", "app")
+APP_SERVER = Feature("web pages served by dentopo app", "uvicorn", "app")
+
 #: Every feature above, for checks and tests.
-FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, STUDY_FIGURES, EXCEL, REPORT)
+FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, STUDY_FIGURES, EXCEL, REPORT, APP, APP_SERVER)
 
 #: ``prepare``'s ``decimate="meshlab"``: MeshLab's quadric edge collapse (pymeshlab, GPL).
 #: Not in FEATURES: the ``meshlab`` extra is in neither ``all`` nor ``test`` (a 100 MB GPL

@@ -27,6 +27,7 @@ from ._streams import (
 # ``"module:function"`` string, imported only when that subcommand runs (so that the plain
 # command stays fast).
 SUBCOMMANDS: dict[str, str | Callable[[list[str]], int]] = {
+    "app": "dentopo.cli._app:app_main",
     "info": "dentopo.cli._info:info_main",
     "prepare": "dentopo.cli._prepare:prepare_main",
     "report": "dentopo.cli._report:report_main",

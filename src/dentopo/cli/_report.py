@@ -59,9 +59,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--prepare",
         metavar="PROTOCOL",
+        action="append",
         help="the protocol (a TOML file) the rows were prepared with by dentopo --prepare, "
-        "to picture the prepared crowns; shipped protocols are found by the digest in the "
-        "protocol column",
+        "to picture the prepared crowns (repeatable: rows prepared with several); shipped "
+        "protocols are found by the digest in the protocol column",
     )
     parser.add_argument("-q", "--quiet", action="store_true", help="no summary line")
     return parser

@@ -833,3 +833,30 @@ def read_table(path: str | os.PathLike, *, columns: str | Layout | None = None) 
         return chosen.records(raw, header)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{path!r} has a malformed value: {exc}") from exc
+
+
+def convert_table(source: str | os.PathLike, target: str | os.PathLike) -> int:
+    """Write the table `source` again as `target` (its format from its suffix), atomically.
+
+    The same layout and the same columns, in the same order (a ``.csv`` table
+    as ``.tsv`` or ``.xlsx``, say); the rows as :func:`read_table` reads them.
+
+    Returns
+    -------
+    int
+        The number of rows written.
+
+    Raises
+    ------
+    ValueError
+        If `source` is not a results table, or `target`'s suffix is not a format.
+    """
+    source = os.fspath(source)
+    header, raw = table_format(source).read(source)
+    if not header and not raw:
+        raise ValueError(f"{source!r} is an empty table")
+    chosen = _detect(header, source)
+    if chosen.parse is not None:
+        chosen = replace(chosen, columns=chosen.parse(header))
+    records = chosen.records(raw, header)
+    return write_table(target, records, columns=chosen)

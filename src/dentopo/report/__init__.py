@@ -14,6 +14,17 @@ May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
 :mod:`dentopo.batch` (the report is of a batch's table).  Nothing from study or cli.
 """
 
+from ._page import UNPACK_JS
+from ._payload import pack_mesh, unpack_mesh
 from ._report import ReportSummary, check_report_extras, write_report
+from ._thumbnails import report_camera
 
-__all__ = ["ReportSummary", "check_report_extras", "write_report"]
+__all__ = [
+    "UNPACK_JS",
+    "ReportSummary",
+    "check_report_extras",
+    "pack_mesh",
+    "report_camera",
+    "unpack_mesh",
+    "write_report",
+]

@@ -259,8 +259,9 @@ def row_protocols(specimens: Sequence[Specimen], prepare=None) -> dict[str, Prot
 
     A row holds only its protocol's label (``"name digest12"``), so the
     protocol itself comes from `prepare` (a :class:`dentopo.Protocol`, a
-    shipped name or a TOML file) or from the shipped protocols, matched by
-    digest; the label's name is not trusted, the digest is.
+    shipped name or a TOML file, or a list of them when rows were prepared
+    with several) or from the shipped protocols, matched by digest; the
+    label's name is not trusted, the digest is.
 
     Raises
     ------
@@ -268,15 +269,21 @@ def row_protocols(specimens: Sequence[Specimen], prepare=None) -> dict[str, Prot
         If some label's protocol is neither `prepare` nor shipped (naming the
         label), or `prepare` is the protocol of no row.
     """
-    given = None if prepare is None else load_protocol(prepare)
+    if prepare is None:
+        given = []
+    elif isinstance(prepare, (list, tuple)):
+        given = [load_protocol(item) for item in prepare]
+    else:
+        given = [load_protocol(prepare)]
     labels = sorted({s.protocol_label for s in specimens if s.protocol_label is not None})
-    if given is not None and not any(_short_digest(x) == given.digest[:12] for x in labels):
-        held = ", ".join(repr(x) for x in labels) or "none (measured as read)"
-        raise ProtocolError(
-            f"the protocol given ({given.label!r}) is not the one the table's rows were "
-            f"prepared with: theirs are {held}"
-        )
-    candidates = ([given] if given is not None else []) + list(named_protocols().values())
+    for protocol in given:
+        if not any(_short_digest(x) == protocol.digest[:12] for x in labels):
+            held = ", ".join(repr(x) for x in labels) or "none (measured as read)"
+            raise ProtocolError(
+                f"the protocol given ({protocol.label!r}) is not one the table's rows were "
+                f"prepared with: theirs are {held}"
+            )
+    candidates = given + list(named_protocols().values())
     by_digest = {}
     for candidate in candidates:
         by_digest.setdefault(candidate.digest[:12], candidate)

@@ -383,7 +383,7 @@ def render_page(content: PageContent) -> str:
         + "\n"
         + meshes
         + "\n<script>"
-        + _SCRIPT
+        + _SCRIPT.replace("%UNPACK%", UNPACK_JS)
         + "</script>\n</body>\n</html>\n"
     )
 
@@ -457,6 +457,55 @@ close (Esc)</button></div><div id="viewer-message" hidden></div><div id="viewer-
 </div></div>
 <div id="report-status" hidden data-ready="no" data-thumbnails="" data-errors="" data-layout="">
 </div>
+"""
+
+#: The page's unpacking of :func:`._payload.pack_mesh` payloads (``unpackPayload(meta, text)``):
+#: the report inlines it, the app serves it as ``/static/viewer.js``.
+UNPACK_JS = r"""
+async function inflate(text) {
+  const binary = atob(text.trim());
+  const bytes = new Uint8Array(binary.length);
+  for (let i = 0; i < binary.length; i++) bytes[i] = binary.charCodeAt(i);
+  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"));
+  return new Uint8Array(await new Response(stream).arrayBuffer());
+}
+
+function words(bytes, offset, count, size) {
+  const out = new Uint32Array(count);
+  for (let b = 0; b < size; b++) {
+    const base = offset + b * count, factor = 2 ** (8 * b);
+    for (let i = 0; i < count; i++) out[i] += bytes[base + i] * factor;
+  }
+  return out;
+}
+
+function undo(codes, start, count, bits) {  // zigzag deltas -> values, wrapping at 2**bits
+  const out = new Float64Array(count);
+  const modulus = 2 ** bits;
+  let value = 0;
+  for (let i = 0; i < count; i++) {
+    const z = codes[start + i];
+    const delta = z % 2 ? -(z + 1) / 2 : z / 2;
+    value = (value + delta) % modulus;
+    if (value < 0) value += modulus;
+    out[i] = value;
+  }
+  return out;
+}
+
+// A payload of _payload.pack_mesh (its "data" text given apart): coordinates, faces, colours.
+async function unpackPayload(meta, text) {
+  const bytes = await inflate(text === undefined ? meta.data : text);
+  const n = meta.n, m = meta.m, size = meta.wide ? 4 : 2;
+  const coords = words(bytes, 0, 3 * n, 2);
+  const xyz = [0, 1, 2].map((c) => {
+    const q = undo(coords, c * n, n, 16);
+    return Array.from(q, (v) => meta.low[c] + (v / 65535) * meta.extent);
+  });
+  const faces = undo(words(bytes, 6 * n, 3 * m, size), 0, 3 * m, 8 * size);
+  const ijk = [0, 1, 2].map((c) => Array.from({ length: m }, (_, f) => faces[3 * f + c]));
+  return { xyz, ijk, colors: bytes.subarray(6 * n + 3 * m * size) };
+}
 """
 
 _SCRIPT = r"""
@@ -589,52 +638,13 @@ function pickPoint(event) {
   if (point && point.customdata !== undefined) openViewer(point.customdata);
 }
 
-async function inflate(text) {
-  const binary = atob(text.trim());
-  const bytes = new Uint8Array(binary.length);
-  for (let i = 0; i < binary.length; i++) bytes[i] = binary.charCodeAt(i);
-  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"));
-  return new Uint8Array(await new Response(stream).arrayBuffer());
-}
-
-function words(bytes, offset, count, size) {
-  const out = new Uint32Array(count);
-  for (let b = 0; b < size; b++) {
-    const base = offset + b * count, factor = 2 ** (8 * b);
-    for (let i = 0; i < count; i++) out[i] += bytes[base + i] * factor;
-  }
-  return out;
-}
-
-function undo(codes, start, count, bits) {  // zigzag deltas -> values, wrapping at 2**bits
-  const out = new Float64Array(count);
-  const modulus = 2 ** bits;
-  let value = 0;
-  for (let i = 0; i < count; i++) {
-    const z = codes[start + i];
-    const delta = z % 2 ? -(z + 1) / 2 : z / 2;
-    value = (value + delta) % modulus;
-    if (value < 0) value += modulus;
-    out[i] = value;
-  }
-  return out;
-}
-
+%UNPACK%
 async function unpack(index) {
-  const meta = D.meshes[index];
-  const bytes = await inflate(document.getElementById("mesh-" + index).textContent);
-  const n = meta.n, m = meta.m, size = meta.wide ? 4 : 2;
-  const coords = words(bytes, 0, 3 * n, 2);
-  const xyz = [0, 1, 2].map((c) => {
-    const q = undo(coords, c * n, n, 16);
-    return Array.from(q, (v) => meta.low[c] + (v / 65535) * meta.extent);
-  });
-  const faces = undo(words(bytes, 6 * n, 3 * m, size), 0, 3 * m, 8 * size);
-  const ijk = [0, 1, 2].map((c) => Array.from({ length: m }, (_, f) => faces[3 * f + c]));
+  const text = document.getElementById("mesh-" + index).textContent;
+  const mesh = await unpackPayload(D.meshes[index], text);
   const half = (D.steps - 1) / 2;
-  const colors = bytes.subarray(6 * n + 3 * m * size);
-  const intensity = Array.from(colors, (k) => ((k - half) / half) * D.limit);
-  return { xyz, ijk, intensity };
+  const intensity = Array.from(mesh.colors, (k) => ((k - half) / half) * D.limit);
+  return { xyz: mesh.xyz, ijk: mesh.ijk, intensity };
 }
 
 const viewer = document.getElementById("viewer");

@@ -110,13 +110,14 @@ def write_report(
         this process).  The page does not depend on it.
     thumbnail_size : int
         Thumbnail width and height, pixels.
-    prepare : Protocol, str or path-like, optional
+    prepare : Protocol, str or path-like, or a list of them, optional
         The preparation protocol of rows whose ``protocol`` column names one
         (tables of ``compute_batch(prepare=...)``, ``dentopo --prepare``):
         their pictures are of the crown prepared again with it, as measured,
         and the page states the protocol and its steps.  A row holds only its
         protocol's label, so a protocol that is not shipped must be given
-        (its digest must be the row's); shipped ones are found by digest.
+        (its digest must be the row's; a list when rows were prepared with
+        several); shipped ones are found by digest.
 
     Returns
     -------

@@ -1,0 +1,217 @@
+"""The folder the app works on: its meshes, each read once for its size and a thumbnail.
+
+The meshes are found as the command finds them (:func:`dentopo.batch.find_mesh_files`:
+hidden entries and the tool's own outputs skipped), less the app's output folder
+and anything whose real path leaves the folder (a symlink out of it is not
+listed, and so never opened).  A mesh's group is its first subfolder (``""`` at
+the top), as the collection report groups by folder.
+
+One background thread reads each mesh in turn (:func:`dentopo.load_mesh`): its
+vertex and face counts, or the reason it cannot be read, and a small occlusal
+thumbnail, drawn with matplotlib's Agg canvas (thread-safe without pyplot; VTK's
+off-screen renderer is not safe off the main thread) from the report's camera,
+faces shaded by how squarely they face it.  Thumbnails are cached in the output
+folder under ``.app/thumbnails``, keyed by the file's path, size and time.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import os
+import threading
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..batch import error_reason, find_mesh_files
+from ..formats import atomic_write
+from ..mesh import load_mesh
+from ..report import report_camera
+from ._security import inside, relative_to
+
+#: Thumbnail width and height, pixels.
+THUMBNAIL_PIXELS = 160
+#: Faces drawn in a thumbnail at most (larger meshes are decimated for the picture only).
+THUMBNAIL_FACES = 20_000
+
+
+@dataclass
+class MeshEntry:
+    """One mesh of the folder, as the page lists it."""
+
+    path: str  # relative to the folder, "/"-separated
+    real: str  # the real path opened
+    group: str
+    bytes: int
+    vertices: int | None = None
+    faces: int | None = None
+    error: str | None = None
+    thumbnail: str | None = None  # the cached picture, once drawn
+    inspected: bool = False
+
+    def to_dict(self) -> dict:
+        return {
+            "path": self.path,
+            "group": self.group,
+            "bytes": self.bytes,
+            "vertices": self.vertices,
+            "faces": self.faces,
+            "error": self.error,
+            "thumbnail": self.thumbnail is not None,
+        }
+
+
+def group_of(path: str) -> str:
+    """A mesh's group: its first folder below the app's folder, or ``""``."""
+    head, _, rest = path.partition("/")
+    return head if rest else ""
+
+
+class Folder:
+    """The meshes below `root` (the output folder `output` left out), read in the background."""
+
+    def __init__(self, root: str, output: str):
+        self.root = os.path.realpath(root)
+        self.output = os.path.realpath(output)
+        self._lock = threading.Lock()
+        self._entries: dict[str, MeshEntry] = {}
+        self._thread: threading.Thread | None = None
+        self._stop = threading.Event()
+        self.scan()
+
+    def scan(self) -> None:
+        """List the meshes again (new files appear, removed ones go); inspect the new ones."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a format that cannot be read: not listed
+            found = find_mesh_files([self.root]).files
+        entries = {}
+        for path in found:
+            real = os.path.realpath(path)
+            if os.path.commonpath([real, self.root]) != self.root:
+                continue  # a symlink out of the folder
+            if os.path.commonpath([real, self.output]) == self.output:
+                continue  # the app's own outputs
+            relative = relative_to(self.root, os.path.abspath(path))
+            try:
+                size = os.stat(real).st_size
+            except OSError:
+                continue
+            old = self._entries.get(relative)
+            if old is not None and old.bytes == size and old.real == real:
+                entries[relative] = old
+            else:
+                entries[relative] = MeshEntry(relative, real, group_of(relative), size)
+        with self._lock:
+            self._entries = entries
+        self._start()
+
+    def entries(self) -> list[MeshEntry]:
+        """The meshes, sorted by path."""
+        with self._lock:
+            return [self._entries[k] for k in sorted(self._entries)]
+
+    def entry(self, relative: str) -> MeshEntry:
+        """The mesh at `relative`; ``KeyError`` if it is not one of the folder's meshes.
+
+        The path is checked first (:func:`inside`): a path out of the folder is
+        :class:`PathRefusedError`, whether or not such a file exists.
+        """
+        inside(self.root, relative)
+        with self._lock:
+            return self._entries[relative]
+
+    @property
+    def pending(self) -> bool:
+        """Whether some mesh is still being read."""
+        return any(not e.inspected for e in self.entries())
+
+    def _start(self) -> None:
+        if self._thread is not None and self._thread.is_alive():
+            return
+        self._thread = threading.Thread(target=self._inspect_all, name="dentopo-app-folder")
+        self._thread.daemon = True
+        self._thread.start()
+
+    def close(self) -> None:
+        self._stop.set()
+
+    def _inspect_all(self) -> None:
+        while not self._stop.is_set():
+            waiting = [e for e in self.entries() if not e.inspected]
+            if not waiting:
+                return
+            for entry in waiting:
+                if self._stop.is_set():
+                    return
+                inspect(entry, os.path.join(self.output, ".app", "thumbnails"))
+
+
+def _thumbnail_name(entry: MeshEntry) -> str:
+    stat = os.stat(entry.real)
+    key = f"{entry.real}\0{stat.st_size}\0{stat.st_mtime_ns}".encode("utf-8", "surrogateescape")
+    return hashlib.sha256(key).hexdigest()[:32] + ".png"
+
+
+def inspect(entry: MeshEntry, thumbnails: str) -> None:
+    """Read `entry`'s mesh: its counts or its error, and its thumbnail (never raises)."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            mesh = load_mesh(entry.real)
+        entry.vertices, entry.faces = len(mesh.vertices), len(mesh.faces)
+    except Exception as exc:  # a bad file is data: its reason is shown
+        entry.error = error_reason(exc)
+        entry.inspected = True
+        return
+    try:
+        target = os.path.join(thumbnails, _thumbnail_name(entry))
+        if not os.path.exists(target):
+            os.makedirs(thumbnails, exist_ok=True)
+            png = draw_thumbnail(np.asarray(mesh.vertices), np.asarray(mesh.faces))
+            atomic_write(target, lambda stream: stream.write(png), binary=True)
+        entry.thumbnail = target
+    except Exception:  # no picture is not an error of the mesh
+        entry.thumbnail = None
+    entry.inspected = True
+
+
+def draw_thumbnail(vertices: np.ndarray, faces: np.ndarray, pixels: int = THUMBNAIL_PIXELS):
+    """PNG bytes: the mesh seen from the report's occlusal camera, faces shaded."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.collections import PolyCollection
+    from matplotlib.figure import Figure
+
+    if len(faces) > THUMBNAIL_FACES:
+        import fast_simplification
+
+        vertices, faces = fast_simplification.simplify(
+            vertices.astype(np.float32), faces.astype(np.int64), 1 - THUMBNAIL_FACES / len(faces)
+        )
+        vertices = np.asarray(vertices, dtype=np.float64)
+    axes = report_camera(vertices, faces)
+    seen = vertices @ axes.T  # right, up, towards the viewer
+    tri = seen[faces]
+    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    length = np.linalg.norm(normals, axis=1)
+    facing = np.abs(normals[:, 2]) / np.where(length > 0, length, 1.0)
+    order = np.argsort(tri[:, :, 2].mean(axis=1))  # far faces first, near ones drawn over
+    shade = 0.35 + 0.65 * facing[order]
+    tooth = np.array([0.91, 0.86, 0.77])
+    colors = np.clip(shade[:, None] * tooth, 0, 1)
+    figure = Figure(figsize=(1, 1), dpi=pixels)
+    FigureCanvasAgg(figure)
+    ax = figure.add_axes((0, 0, 1, 1))
+    ax.set_axis_off()
+    ax.add_collection(
+        PolyCollection(tri[order][:, :, :2], facecolors=colors, edgecolors=colors, linewidths=0.2)
+    )
+    low, high = seen[:, :2].min(axis=0), seen[:, :2].max(axis=0)
+    middle, half = (low + high) / 2, (high - low).max() / 2 * 1.05 or 1.0
+    ax.set_xlim(middle[0] - half, middle[0] + half)
+    ax.set_ylim(middle[1] - half, middle[1] + half)
+    ax.set_aspect("equal")
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", facecolor="white")
+    return buffer.getvalue()

@@ -1,0 +1,660 @@
+"""What the app knows of one folder: its meshes, protocols, run, results, pictures and exports.
+
+Everything lives in the output folder (``FOLDER/dentopo-app`` unless chosen),
+so that closing the tab or stopping the server loses nothing and reopening the
+folder shows what is done:
+
+* ``protocol.toml``: the folder's preparation protocol (every mesh without its own);
+  ``protocols/REL.toml``: a mesh's own; ``.app/prepare.json``: whether runs prepare;
+* ``results.csv`` (and its journal while a run goes): the command's table;
+* ``.app/run.json``: the last run's options (the maps are drawn with them);
+* ``.app/maps/``, ``.app/thumbnails/``: pictures, cached;
+* ``report.html``: the collection report; ``prepared/``: the prepared meshes,
+  each with its ``.prepare.json``, and the protocols they were made with.
+
+Measuring, preparing, drawing maps and the report are done by the command in a
+child process (:mod:`._jobs`); previews of a preparation and the tables' exports
+are the library's, in this process.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+import os
+import threading
+import zipfile
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ..ariadne import DISTANCE_TYPES, METHODS
+from ..batch import available_cores
+from ..formats import atomic_write, convert_table, journal_path, read_journal, read_table
+from ..mesh import load_mesh
+from ..prepare import DECIMATORS, SMOOTHERS, Protocol, ProtocolError, read_protocol
+from ..report import pack_mesh
+from ..sign import SIGN_METHODS
+from ..topography import GROUPS, METRICS
+from ._folder import Folder
+from ._jobs import Job
+from ._security import inside
+
+#: The results table, in the output folder.
+TABLE = "results.csv"
+#: The output folder's name inside the app's folder, unless another is chosen.
+OUTPUT_NAME = "dentopo-app"
+#: Faces the page's 3D view draws at most (a larger mesh is decimated for the view only).
+VIEW_FACES = 150_000
+#: The maps the page shows: name -> (the metric computed, the command's --color-by).
+MAPS = {
+    "curvature": ("ariadne", "local_curvature"),
+    "slope": ("slope", "slope"),
+    "opc": ("opc", "opc"),
+    "arc": ("arc", "arc"),
+}
+#: The table exports: format -> (suffix, MIME type).
+EXPORTS = {
+    "csv": (".csv", "text/csv"),
+    "tsv": (".tsv", "text/tab-separated-values"),
+    "xlsx": (".xlsx", "application/vnd.openxmlformats-officedocument.spreadsheetml.sheet"),
+}
+
+
+class AppError(ValueError):
+    """A request the app cannot do (a wrong parameter, a run going): its message is shown."""
+
+    def __init__(self, message: str, status: int = 400):
+        super().__init__(message)
+        self.status = status
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """What a run computes: the metrics and ariaDNE's settings, workers, and whether to prepare."""
+
+    metrics: tuple[str, ...] = ("ariadne",)
+    bandwidth: float = 0.08
+    cutoff: float = 0.0
+    distance_type: str = "euclidean"
+    sign_method: str = "centroid"
+    method: str = "auto"
+    jobs: int = 1
+    prepare: bool = False
+
+    @classmethod
+    def from_json(cls, data) -> RunOptions:
+        """Options from the page's JSON, every value checked (:class:`AppError` naming it)."""
+        if not isinstance(data, dict):
+            raise AppError("the run's options must be an object")
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise AppError(f"unknown run option {unknown[0]!r}")
+        values = {**cls().__dict__, **data}
+        metrics = values["metrics"]
+        if isinstance(metrics, str):
+            metrics = [metrics]
+        if not isinstance(metrics, (list, tuple)) or not metrics:
+            raise AppError("choose at least one metric")
+        chosen: list[str] = []
+        for name in metrics:
+            if not isinstance(name, str) or (name not in METRICS and name not in GROUPS):
+                raise AppError(f"unknown metric {name!r}")
+            for item in GROUPS.get(name, (name,)):
+                if item not in chosen:
+                    chosen.append(item)
+        values["metrics"] = tuple(m for m in METRICS if m in chosen)
+        for name, low in (("bandwidth", 0.0), ("cutoff", None)):
+            value = values[name]
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise AppError(f"{name} must be a number")
+            if not math.isfinite(value) or (low is not None and value <= low):
+                raise AppError(
+                    f"{name} must be a finite number" + (" above 0" if low is not None else "")
+                )
+            values[name] = float(value)
+        if values["cutoff"] < 0:
+            raise AppError("cutoff must be at least 0")
+        for name, choices in (
+            ("distance_type", DISTANCE_TYPES),
+            ("sign_method", SIGN_METHODS),
+            ("method", METHODS),
+        ):
+            if values[name] not in choices:
+                raise AppError(f"{name} must be one of {', '.join(choices)}")
+        jobs = values["jobs"]
+        if isinstance(jobs, bool) or not isinstance(jobs, int) or not 1 <= jobs <= 256:
+            raise AppError("jobs must be a whole number from 1")
+        if not isinstance(values["prepare"], bool):
+            raise AppError("prepare must be true or false")
+        return cls(**values)
+
+    def arguments(self) -> list[str]:
+        """The command's options for these settings."""
+        return [
+            "--metrics",
+            ",".join(self.metrics),
+            "--bandwidth",
+            repr(self.bandwidth),
+            "--cutoff",
+            repr(self.cutoff),
+            "--distance-type",
+            self.distance_type,
+            "--sign-method",
+            self.sign_method,
+            "--method",
+            self.method,
+        ]
+
+    def to_dict(self) -> dict:
+        return {**self.__dict__, "metrics": list(self.metrics)}
+
+
+def protocol_from_json(data) -> Protocol:
+    """A :class:`Protocol` from the page's fields (:class:`AppError` naming a wrong one)."""
+    if not isinstance(data, dict):
+        raise AppError("the protocol must be an object of its parameters")
+    known = {f.name for f in fields(Protocol)}
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise AppError(f"unknown protocol parameter {unknown[0]!r}")
+    values = {k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()}
+    values.setdefault("name", "app")
+    try:
+        return Protocol(**values)
+    except (ProtocolError, TypeError) as exc:
+        raise AppError(str(exc)) from None
+
+
+class Workspace:
+    """The app's state for the folder `root`, kept in the output folder `output`."""
+
+    def __init__(self, root: str, output: str | None = None):
+        self.root = os.path.realpath(root)
+        if not os.path.isdir(self.root):
+            raise AppError(f"not a folder: {root}")
+        self.output = os.path.realpath(output or os.path.join(self.root, OUTPUT_NAME))
+        os.makedirs(os.path.join(self.output, ".app"), exist_ok=True)
+        self.folder = Folder(self.root, self.output)
+        self.table = os.path.join(self.output, TABLE)
+        self._lock = threading.Lock()
+        self.run: Job | None = None
+        self.run_files: list[str] = []
+        self._finished: dict[str, dict] = {}
+        self.pictures: dict[str, Job] = {}
+        self.report: Job | None = None
+        self.export: Job | None = None
+
+    # -- paths inside the output folder ---------------------------------------------------------
+
+    def _out(self, *parts: str) -> str:
+        return os.path.join(self.output, *parts)
+
+    @property
+    def protocol_file(self) -> str:
+        return self._out("protocol.toml")
+
+    def own_protocol_file(self, relative: str) -> str:
+        inside(self.root, relative)  # a checked path: it cannot leave the output folder either
+        return self._out("protocols", *relative.split("/")) + ".toml"
+
+    # -- protocols ------------------------------------------------------------------------------
+
+    def folder_protocol(self) -> Protocol | None:
+        return read_protocol(self.protocol_file) if os.path.exists(self.protocol_file) else None
+
+    def own_protocol(self, relative: str) -> Protocol | None:
+        path = self.own_protocol_file(relative)
+        return read_protocol(path) if os.path.exists(path) else None
+
+    def protocol_for(self, relative: str) -> tuple[Protocol | None, str | None]:
+        """The protocol a mesh is prepared with, and its file (its own, or the folder's)."""
+        own = self.own_protocol_file(relative)
+        if os.path.exists(own):
+            return read_protocol(own), own
+        if os.path.exists(self.protocol_file):
+            return read_protocol(self.protocol_file), self.protocol_file
+        return None, None
+
+    @property
+    def prepares(self) -> bool:
+        """Whether runs prepare each mesh with its protocol before measuring."""
+        path = self._out(".app", "prepare.json")
+        try:
+            with open(path, encoding="utf-8") as stream:
+                return bool(json.load(stream).get("prepare"))
+        except (OSError, ValueError):
+            return False
+
+    def set_prepares(self, value: bool) -> None:
+        text = json.dumps({"prepare": bool(value)})
+        atomic_write(self._out(".app", "prepare.json"), lambda s: s.write(text))
+
+    def save_protocol(self, scope: str, relative: str | None, data) -> None:
+        """Save (or with `data` None remove) the folder's protocol or a mesh's own."""
+        if scope == "all":
+            path = self.protocol_file
+        elif scope == "mesh":
+            if relative is None:
+                raise AppError("a mesh's protocol needs the mesh's path")
+            self._entry(relative)
+            path = self.own_protocol_file(relative)
+        else:
+            raise AppError("scope must be 'all' or 'mesh'")
+        if data is None:
+            if os.path.exists(path):
+                os.unlink(path)
+            return
+        protocol = protocol_from_json(data)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        text = protocol.to_toml()
+        atomic_write(path, lambda s: s.write(text))
+
+    def _entry(self, relative):
+        from ._security import PathRefusedError
+
+        if not isinstance(relative, str):
+            raise AppError("a path must be a text")
+        try:
+            return self.folder.entry(relative)
+        except PathRefusedError as exc:
+            raise AppError(f"refused: {exc}", 403) from None
+        except KeyError:
+            raise AppError("no such mesh in the folder", 404) from None
+
+    # -- the page's state -----------------------------------------------------------------------
+
+    def state(self) -> dict:
+        folder_protocol = self.folder_protocol()
+        meshes = []
+        for entry in self.folder.entries():
+            item = entry.to_dict()
+            own = os.path.exists(self.own_protocol_file(entry.path))
+            item["protocol"] = "own" if own else ("folder" if folder_protocol else None)
+            meshes.append(item)
+        return {
+            "folder": self.root,
+            "output": self.output,
+            "table": self.table,
+            "version": _version(),
+            "meshes": meshes,
+            "pending": self.folder.pending,
+            "protocol": None if folder_protocol is None else folder_protocol.to_dict(),
+            "protocol_label": None if folder_protocol is None else folder_protocol.label,
+            "prepare": self.prepares,
+            "choices": {
+                "metrics": list(METRICS),
+                "metric_groups": {k: list(v) for k, v in GROUPS.items()},
+                "orient": ["occlusal", "none"],
+                "keep": ["largest", "all"],
+                "spin": ["none", "footprint"],
+                "decimate": list(DECIMATORS),
+                "smooth": list(SMOOTHERS),
+                "distance_type": list(DISTANCE_TYPES),
+                "sign_method": list(SIGN_METHODS),
+                "method": list(METHODS),
+                "maps": list(MAPS),
+                "exports": list(EXPORTS),
+            },
+            "defaults": {**RunOptions().to_dict(), "jobs": max(1, available_cores() - 1)},
+            "last_run": self.last_options().to_dict(),
+            "run": self.run_state(),
+            "results": os.path.exists(self.table),
+            "report": os.path.exists(self._out("report.html")),
+        }
+
+    # -- the preview of a preparation -----------------------------------------------------------
+
+    def preview(self, relative, data) -> dict:
+        """The mesh after clean and orient (for the crop slider) and after the whole protocol."""
+        from ..prepare import prepare
+
+        entry = self._entry(relative)
+        protocol = protocol_from_json(data)
+        try:
+            mesh = load_mesh(entry.real)
+        except Exception as exc:
+            raise AppError(f"cannot read {relative}: {exc}") from None
+        placed = Protocol(
+            clean=protocol.clean,
+            keep=protocol.keep,
+            orient=protocol.orient,
+            up=protocol.up,
+            spin=protocol.spin,
+        )
+        try:
+            oriented = prepare(mesh, placed)
+            prepared = prepare(mesh, protocol)
+        except (ValueError, ProtocolError) as exc:
+            raise AppError(str(exc)) from None
+        rotation = np.asarray(oriented.transform)[:3, :3]
+        found_up = rotation.T @ np.array([0.0, 0.0, 1.0])
+        z = np.asarray(oriented.vertices)[:, 2]
+        return {
+            "oriented": _view_payload(oriented.vertices, oriented.faces),
+            "prepared": _view_payload(prepared.vertices, prepared.faces),
+            "z_min": float(z.min()),
+            "z_max": float(z.max()),
+            "found_up": [round(float(x), 6) for x in found_up],
+            "steps": [
+                {
+                    "name": s.name,
+                    "vertices_before": s.vertices_before,
+                    "vertices_after": s.vertices_after,
+                    "faces_before": s.faces_before,
+                    "faces_after": s.faces_after,
+                    "warnings": list(s.warnings),
+                }
+                for s in prepared.steps
+            ],
+            "warnings": list(prepared.warnings),
+            "label": prepared.protocol.label,
+            "display_faces": min(len(prepared.faces), VIEW_FACES),
+        }
+
+    # -- runs -----------------------------------------------------------------------------------
+
+    def last_options(self) -> RunOptions:
+        try:
+            with open(self._out(".app", "run.json"), encoding="utf-8") as stream:
+                return RunOptions.from_json(json.load(stream))
+        except (OSError, ValueError):
+            return RunOptions()
+
+    def start_run(self, data) -> dict:
+        options = RunOptions.from_json(data)
+        with self._lock:
+            if self.run is not None and self.run.running():
+                raise AppError("a run is going: wait for it or cancel it", 409)
+            files = [e.path for e in self.folder.entries()]
+            if not files:
+                raise AppError("the folder holds no meshes")
+            groups: dict[str | None, list[str]] = {}
+            for relative in files:
+                path = self.protocol_for(relative)[1] if options.prepare else None
+                groups.setdefault(path, []).append(relative)
+            commands = []
+            for path, group in groups.items():
+                arguments = ["--output", self.table, "--resume", "--jobs", str(options.jobs)]
+                arguments += options.arguments()
+                if path is not None:
+                    arguments += ["--prepare", path]
+                commands.append([*arguments, "--", *group])  # a name is never an option
+            text = json.dumps(options.to_dict())
+            atomic_write(self._out(".app", "run.json"), lambda s: s.write(text))
+            self.set_prepares(options.prepare)
+            self.run_files = files
+            self._finished = {}
+            self.run = Job(commands, self.root, after=self._group_done).start()
+        return self.run_state()
+
+    def _group_done(self, index: int, code: int) -> None:
+        rows = self._table_rows()
+        command = self.run.commands[index] if self.run else []
+        group = set(command[command.index("--") + 1 :]) if "--" in command else set()
+        for row in rows:
+            if row.get("file") in group:
+                self._finished[row["file"]] = row
+
+    def cancel_run(self) -> dict:
+        if self.run is not None:
+            self.run.cancel()
+        return self.run_state()
+
+    def run_state(self) -> dict:
+        job = self.run
+        if job is None:
+            return {
+                "state": "idle",
+                "total": 0,
+                "done": 0,
+                "files": {},
+                "log": [],
+                "exit_code": None,
+                "command": "",
+            }
+        finished = dict(self._finished)
+        if job.running():
+            for row in self._journal_rows():
+                finished[row.get("file")] = row
+        files = {}
+        for relative in self.run_files:
+            row = finished.get(relative)
+            if row is None:
+                files[relative] = {"status": "waiting", "error": None, "seconds": None}
+            else:
+                files[relative] = {
+                    "status": row.get("status"),
+                    "error": row.get("error"),
+                    "seconds": row.get("seconds"),
+                }
+        return {
+            "state": job.state,
+            "total": len(self.run_files),
+            "done": sum(1 for f in files.values() if f["status"] != "waiting"),
+            "files": files,
+            "log": list(job.log),
+            "exit_code": job.exit_code,
+            "command": job.command,
+        }
+
+    def _journal_rows(self) -> list[dict]:
+        try:
+            return read_journal(journal_path(self.table))[0]
+        except (OSError, ValueError):
+            return []
+
+    def _table_rows(self) -> list[dict]:
+        try:
+            return read_table(self.table)
+        except (OSError, ValueError):
+            return []
+
+    def results(self) -> dict:
+        """The table's rows (with the rows the journal holds while a run goes)."""
+        rows = {r.get("file"): r for r in self._table_rows()}
+        if self.run is not None and self.run.running():
+            rows.update({r.get("file"): r for r in self._journal_rows()})
+        ordered = [rows[k] for k in sorted(rows, key=str)]
+        columns: list[str] = []
+        for row in ordered:
+            columns += [k for k in row if k not in columns]
+        return {"columns": columns, "rows": [_json_row(r) for r in ordered]}
+
+    def export_table(self, kind: str) -> tuple[bytes, str, str]:
+        """The table as `kind` (csv, tsv, xlsx): its bytes, file name and MIME type."""
+        if kind not in EXPORTS:
+            raise AppError(f"format must be one of {', '.join(EXPORTS)}")
+        if not os.path.exists(self.table):
+            raise AppError("no results yet: run the metrics first", 404)
+        suffix, mime = EXPORTS[kind]
+        source = self.table
+        if kind != "csv":  # the CSV is the command's table itself, byte for byte
+            source = self._out(".app", "export" + suffix)
+            try:
+                convert_table(self.table, source)
+            except ValueError as exc:
+                raise AppError(str(exc)) from None
+        with open(source, "rb") as stream:
+            return stream.read(), "results" + suffix, mime
+
+    # -- maps, the report, the prepared meshes: the command, in the background -----------------
+
+    def map_picture(self, relative, name) -> str | Job:
+        """The PNG of a mesh's map (its path), or the job drawing it."""
+        if name not in MAPS:
+            raise AppError(f"map must be one of {', '.join(MAPS)}")
+        entry = self._entry(relative)
+        metric, color_by = MAPS[name]
+        options = self.last_options()
+        protocol, protocol_path = self.protocol_for(relative) if options.prepare else (None, None)
+        key = json.dumps(
+            [
+                entry.real,
+                os.stat(entry.real).st_mtime_ns,
+                name,
+                options.arguments(),
+                None if protocol is None else protocol.digest,
+            ]
+        )
+        target = self._out(".app", "maps", hashlib.sha256(key.encode()).hexdigest()[:32] + ".png")
+        if os.path.exists(target):
+            return target
+        with self._lock:
+            job = self.pictures.get(target)
+            if job is not None and (job.running() or job.state == "failed"):
+                return job
+            os.makedirs(os.path.dirname(target), exist_ok=True)
+            arguments = [*options.arguments(), "--quiet"]
+            arguments[arguments.index("--metrics") + 1] = metric
+            arguments += ["--color-by", color_by, "--screenshot", target, "--size", "900,760"]
+            if protocol_path is not None:
+                arguments += ["--prepare", protocol_path]
+            job = Job([[*arguments, "--", relative]], self.root).start()
+            self.pictures[target] = job
+            return job
+
+    def start_report(self) -> dict:
+        with self._lock:
+            if self.report is not None and self.report.running():
+                return self.report_state()
+            if not os.path.exists(self.table):
+                raise AppError("no results yet: run the metrics first", 404)
+            arguments = ["report", "--output", self._out("report.html"), "--quiet"]
+            for path in self._table_protocol_files():
+                arguments += ["--prepare", path]
+            arguments += ["--", self.table]
+            self.report = Job([arguments], self.root).start()
+        return self.report_state()
+
+    def _table_protocol_files(self) -> list[str]:
+        """The saved protocol files some row of the table was prepared with."""
+        from ..batch import protocol_digest
+
+        digests = {protocol_digest(r.get("protocol")) for r in self._table_rows()} - {None}
+        files = [self.protocol_file]
+        for here, _, names in os.walk(self._out("protocols")):
+            files += [os.path.join(here, n) for n in sorted(names) if n.endswith(".toml")]
+        found = []
+        for path in files:
+            try:
+                protocol = read_protocol(path)
+            except (OSError, ValueError):
+                continue
+            if protocol.digest[:12] in digests and protocol.digest[:12] not in {
+                read_protocol(f).digest[:12] for f in found
+            }:
+                found.append(path)
+        return found
+
+    def report_state(self) -> dict:
+        return _job_state(
+            self.report, "/output/report.html", os.path.exists(self._out("report.html"))
+        )
+
+    def start_export(self) -> dict:
+        """Prepare every mesh with its protocol into ``prepared/`` (``dentopo prepare``)."""
+        with self._lock:
+            if self.export is not None and self.export.running():
+                return self.export_state()
+            # one command per protocol and subfolder: the command puts a file given by name at
+            # the top of its output folder, so each subfolder's go to that subfolder's
+            groups: dict[tuple[str, str], list[str]] = {}
+            for entry in self.folder.entries():
+                path = self.protocol_for(entry.path)[1]
+                if path is not None:
+                    where = os.path.dirname(entry.path)
+                    groups.setdefault((path, where), []).append(entry.path)
+            if not groups:
+                raise AppError("no protocol yet: apply one to all meshes or to a mesh first")
+            commands = [
+                [
+                    "prepare",
+                    "--protocol",
+                    path,
+                    "--output",
+                    self._out("prepared", *where.split("/")),
+                    "--resume",
+                    "--quiet",
+                    "--",
+                    *files,
+                ]
+                for (path, where), files in groups.items()
+            ]
+            self.export = Job(commands, self.root).start()
+        return self.export_state()
+
+    def export_state(self) -> dict:
+        return _job_state(
+            self.export, "/api/export/prepared.zip", os.path.isdir(self._out("prepared"))
+        )
+
+    def prepared_zip(self) -> bytes:
+        """The prepared meshes, their records and the protocols, as one zip archive."""
+        folder = self._out("prepared")
+        if not os.path.isdir(folder):
+            raise AppError("no prepared meshes yet: export them first", 404)
+        buffer = io.BytesIO()
+        with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+            for base, directory in (("prepared", folder), ("protocols", self._out("protocols"))):
+                for here, _, names in os.walk(directory):
+                    for name in sorted(names):
+                        if name.startswith("."):
+                            continue
+                        path = os.path.join(here, name)
+                        archive.write(path, base + "/" + os.path.relpath(path, directory))
+            if os.path.exists(self.protocol_file):
+                archive.write(self.protocol_file, "protocol.toml")
+        return buffer.getvalue()
+
+    def close(self) -> None:
+        """Stop the background work: a run writes the rows it finished."""
+        self.folder.close()
+        for job in (self.run, self.report, self.export, *self.pictures.values()):
+            if job is not None and job.running():
+                job.stop()
+
+
+def _job_state(job: Job | None, url: str, exists: bool) -> dict:
+    if job is None:
+        return {"state": "done" if exists else "idle", "url": url if exists else None, "log": []}
+    return {
+        "state": job.state,
+        "url": url if job.state == "done" or (exists and not job.running()) else None,
+        "log": list(job.log)[-20:],
+    }
+
+
+def _json_row(row: dict) -> dict:
+    out = {}
+    for key, value in row.items():
+        if isinstance(value, float) and not math.isfinite(value):
+            value = None
+        elif isinstance(value, (np.integer, np.floating)):
+            value = value.item()
+        out[key] = value
+    return out
+
+
+def _view_payload(vertices, faces) -> dict:
+    from ..figures import color_scale
+
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    if len(faces) > VIEW_FACES:
+        import fast_simplification
+
+        vertices, faces = fast_simplification.simplify(
+            vertices.astype(np.float32), faces, 1 - VIEW_FACES / len(faces)
+        )
+        vertices = np.asarray(vertices, dtype=np.float64)
+    return pack_mesh(vertices, faces, np.zeros(len(vertices)), color_scale(limits=(-1.0, 1.0)))
+
+
+def _version() -> str:
+    from .._version import __version__
+
+    return __version__
