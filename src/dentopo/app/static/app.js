@@ -92,10 +92,13 @@ async function postJSON(path, body) {
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
 /** Show a message to the reader (an API error, or an error of the page). */
+let messageTimer = 0;
 function showMessage(text, info) {
   $("message-text").textContent = String(text);
   $("message").classList.toggle("info", Boolean(info));
   $("message").hidden = false;
+  clearTimeout(messageTimer);
+  if (info) messageTimer = setTimeout(() => { $("message").hidden = true; }, 5000);
 }
 $("message-close").addEventListener("click", () => { $("message").hidden = true; });
 
@@ -368,6 +371,68 @@ function cropHeight() {
   return Number($("crop").value) || 0;
 }
 
+// A protocol file as the app writes it (Protocol.to_toml): a table per step, `key = value` lines
+// whose values are strings, numbers, booleans or arrays of numbers.  Its tables' keys -> fields.
+const TOML_TABLES = {
+  clean: { enabled: "clean", keep: "keep" },
+  orient: { mode: "orient", up: "up", spin: "spin" },
+  crop: { below: "crop_below", fraction: "crop_fraction", plane: "crop_plane" },
+  decimate: { faces: "faces", method: "decimate" },
+  smooth: {
+    method: "smooth", iterations: "smooth_iterations", step: "smooth_step", mu: "smooth_mu",
+    pin_boundary: "smooth_pin_boundary",
+  },
+};
+
+function tomlValue(text) {
+  let inString = false;
+  for (let i = 0; i < text.length; i++) {  // cut a trailing comment (not a # inside a string)
+    const ch = text[i];
+    if (ch === "\\" && inString) { i++; continue; }
+    if (ch === '"') inString = !inString;
+    if (ch === "#" && !inString) { text = text.slice(0, i); break; }
+  }
+  return JSON.parse(text.trim());
+}
+
+/** The fields of a protocol file, or null if it is not in the form the app writes. */
+function parseProtocol(text) {
+  const protocol = Object.assign({}, DEFAULT_PROTOCOL);
+  let table = "";
+  for (const raw of text.split(/\r?\n/)) {
+    const line = raw.trim();
+    if (!line || line.startsWith("#")) continue;
+    const header = /^\[([A-Za-z_]+)\]$/.exec(line);
+    if (header) {
+      if (!(header[1] in TOML_TABLES)) return null;
+      table = header[1];
+      continue;
+    }
+    const pair = /^([A-Za-z_]+)\s*=\s*(.+)$/.exec(line);
+    if (!pair) return null;
+    const value = tomlValue(pair[2]);
+    if (!table) {
+      if (pair[1] === "name") protocol.name = String(value);
+      continue;  // description, source: not edited here
+    }
+    const field = TOML_TABLES[table][pair[1]];
+    if (!field) return null;
+    protocol[field] = value;
+  }
+  return protocol;
+}
+
+async function ownProtocol(path) {
+  try {
+    const response = await fetch("/api/protocol.toml?path=" + encodeURIComponent(path),
+      { credentials: "same-origin", cache: "no-store" });
+    if (!response.ok) return null;
+    return parseProtocol(await response.text());
+  } catch (_) {
+    return null;  // the form then starts from the folder's protocol, and says so
+  }
+}
+
 async function selectMesh(path) {
   const mesh = meshByPath(path);
   if (!mesh) return;
@@ -379,11 +444,16 @@ async function selectMesh(path) {
   $("prepare-body").hidden = false;
   drawSelectedHeader();
   setForm(app.state.protocol);
+  $("view-message").textContent = "";
   if (mesh.protocol === "own") {
-    $("view-message").textContent = "This mesh has its own protocol (download it below); the form "
-      + "starts from the folder's protocol.";
-  } else {
-    $("view-message").textContent = "";
+    const own = await ownProtocol(path);
+    if (path !== app.selected) return;
+    if (own) {
+      setForm(own);
+    } else {
+      $("view-message").textContent = "This mesh has its own protocol (download it below); the "
+        + "form starts from the folder's protocol.";
+    }
   }
   app.preview = null; app.oriented = null; app.prepared = null;
   $("steps").hidden = true;
@@ -433,6 +503,7 @@ async function refreshPreview(show) {
   app.preview = answer; app.oriented = oriented; app.prepared = prepared;
   const up = answer.found_up;
   $("found-up").textContent = Array.isArray(up) ? up.map(fixed3).join(", ") : "\u2014";
+  $("found-up-label").textContent = protocol.up ? "up used" : "found up";
   setupCrop(answer);
   drawSteps(answer);
   $("steps-stale").hidden = true;
@@ -487,6 +558,7 @@ function cropColors() {
 function updateCropText() {
   const height = cropHeight();
   const range = Number($("crop").max) || 0;
+  $("crop-all").hidden = height <= 0;
   if (height <= 0) {
     $("crop-value").textContent = "no crop";
   } else {
@@ -531,10 +603,21 @@ async function drawView(show) {
   await Plotly.newPlot($("view"), [trace], VIEW_LAYOUT(), PLOT_CONFIG);
   app.showing = which;
   const n = mesh.xyz[0].length, m = mesh.ijk[0].length;
+  const real = realFaces(which);
   $("view-label").textContent = (which === "prepared" ? "prepared: " : "cleaned and oriented: ")
-    + count(n) + " vertices, " + count(m) + " faces"
-    + (app.preview && app.preview.display_faces && m >= app.preview.display_faces ? " (reduced for display)" : "");
+    + (real !== null && real > m
+      ? count(real) + " faces (" + count(m) + " drawn)"
+      : count(n) + " vertices, " + count(m) + " faces");
   updateSwitch();
+}
+
+/** The faces of the mesh shown, as the preview's steps count them (the view may draw fewer). */
+function realFaces(which) {
+  const steps = (app.preview && app.preview.steps) || [];
+  if (!steps.length) return null;
+  if (which === "prepared") return Number(steps[steps.length - 1].faces_after);
+  const placed = steps.filter((step) => step.name === "clean" || step.name === "orient");
+  return placed.length ? Number(placed[placed.length - 1].faces_after) : Number(steps[0].faces_before);
 }
 
 function updateSwitch() {
@@ -584,7 +667,7 @@ for (const id of ["p-clean", "p-keep", "p-orient", "p-spin", "up-x", "up-y", "up
 $("up-flip").addEventListener("click", guarded(async () => {
   let up = readUp();
   if (up === null) up = app.preview && Array.isArray(app.preview.found_up) ? app.preview.found_up : [0, 0, 1];
-  ["up-x", "up-y", "up-z"].forEach((id, i) => { $(id).value = String(Number((-up[i]).toPrecision(6)) || 0); });
+  ["up-x", "up-y", "up-z"].forEach((id, i) => { $(id).value = String(Number((-up[i]).toFixed(4)) || 0); });
   if ($("p-orient").value === "none") $("p-orient").value = "occlusal";
   await refreshPreview("oriented");
 }));
@@ -912,6 +995,9 @@ async function loadMap(file, metric, label, img, caption, serial) {
     if (serial !== mapSerial) return;
     img.src = URL.createObjectURL(blob);
     img.hidden = false;
+    const link = el("a", { href: img.src, target: "_blank", rel: "noopener", title: "open full size" });
+    img.replaceWith(link);
+    link.append(img);
     caption.textContent = label;
     return;
   }

@@ -1,0 +1,441 @@
+"""The page of ``dentopo app`` in a real browser (headless Chromium through Selenium).
+
+One app is started on a folder of the package's samples (one in a subfolder), a
+corrupt file and a file whose name is HTML, and one browser visits it; the tests
+run in order on that one page: the meshes are listed (names as text), the crop
+slider recolours the 3D view without asking the server, a batch runs and its
+rows are the table the app wrote, and the page's CSV link gives that table.
+
+Screenshots go to a temporary folder, or to ``$DENTOPO_APP_SCREENSHOTS``.
+Skipped when Chromium or its driver is missing.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import queue
+import re
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from dentopo.samples import sample_paths
+
+CHROMEDRIVER = "/usr/bin/chromedriver"
+CHROMIUM = "/usr/bin/chromium"
+#: A name that HTML would turn into a <b> element and an "&" ("/" cannot be in a file name).
+HTML_NAME = "<b>x&amp;y.ply"
+REMOVED = "#d62728"
+
+pytestmark = pytest.mark.slow
+
+webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
+from selenium.common.exceptions import TimeoutException  # noqa: E402
+from selenium.webdriver.chrome.service import Service  # noqa: E402
+from selenium.webdriver.common.by import By  # noqa: E402
+from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
+
+
+def _missing_browser() -> str | None:
+    for path, package in ((CHROMEDRIVER, "chromium-driver"), (CHROMIUM, "chromium")):
+        if not os.path.exists(path):
+            return f"{path} not found (Debian package {package})"
+    return None
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    """The samples (sphere in a subfolder), a corrupt PLY and a sample named as HTML."""
+    root = tmp_path_factory.mktemp("app-folder")
+    paths = sample_paths()
+    shutil.copy(paths["tooth"], root / "tooth.ply")
+    shutil.copy(paths["saddle"], root / "saddle.ply")
+    (root / "sub").mkdir()
+    shutil.copy(paths["sphere"], root / "sub" / "sphere.ply")
+    (root / "bad.ply").write_bytes(b"ply\nthis is not a mesh \x00\xff garbage\n")
+    shutil.copy(paths["tooth"], root / HTML_NAME)
+    return root
+
+
+#: The folder's meshes as the app names them (relative, with "/").
+EXPECTED = {"tooth.ply", "saddle.ply", "sub/sphere.ply", "bad.ply", HTML_NAME}
+READABLE = EXPECTED - {"bad.ply"}
+
+
+@pytest.fixture(scope="module")
+def server(folder):
+    """``dentopo app FOLDER --no-browser --port 0`` as a subprocess; yields its URL."""
+    reason = _missing_browser()
+    if reason:
+        pytest.skip(reason)
+    command = [sys.executable, "-m", "dentopo", "app", str(folder), "--no-browser", "--port", "0"]
+    process = subprocess.Popen(
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=str(folder),
+    )
+    lines: queue.Queue = queue.Queue()
+    seen: list[str] = []
+
+    def read():
+        for line in process.stdout:
+            lines.put(line)
+        lines.put(None)
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    url = None
+    deadline = time.monotonic() + 60
+    try:
+        while url is None:
+            line = lines.get(timeout=max(0.1, deadline - time.monotonic()))
+            if line is None:
+                break
+            seen.append(line)
+            found = re.search(r"http://\S+", line)
+            if found:
+                url = found.group(0)
+    except queue.Empty:
+        pass
+    if url is None:
+        process.kill()
+        process.wait(timeout=10)
+        reader.join(timeout=10)
+        process.stdout.close()
+        pytest.fail("dentopo app printed no address within 60 s:\n" + "".join(seen))
+    try:
+        yield url
+    finally:
+        process.terminate()
+        try:
+            process.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait(timeout=10)
+        reader.join(timeout=10)
+        process.stdout.close()
+
+
+@pytest.fixture(scope="module")
+def shots(tmp_path_factory):
+    wanted = os.environ.get("DENTOPO_APP_SCREENSHOTS")
+    if wanted:
+        Path(wanted).mkdir(parents=True, exist_ok=True)
+        return Path(wanted)
+    return tmp_path_factory.mktemp("app-screenshots")
+
+
+@pytest.fixture(scope="module")
+def page(server, tmp_path_factory):
+    """A headless Chromium on the app's page, once its first state is drawn."""
+    options = webdriver.ChromeOptions()
+    for argument in (
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-dev-shm-usage",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--no-first-run",
+        "--disable-sync",
+        "--enable-unsafe-swiftshader",  # WebGL (plotly's mesh3d) on the software renderer
+        "--window-size=1300,1000",
+        f"--user-data-dir={tmp_path_factory.mktemp('chromium-profile')}",
+    ):
+        options.add_argument(argument)
+    options.binary_location = CHROMIUM
+    driver = webdriver.Chrome(service=Service(executable_path=CHROMEDRIVER), options=options)
+    try:
+        driver.set_script_timeout(60)
+        driver.get(server)
+        wait(driver, 60, "the first state drawn", lambda d: status(d, "ready"))
+        yield driver
+    finally:
+        driver.quit()
+
+
+def wait(driver, seconds, what, condition):
+    try:
+        return WebDriverWait(driver, seconds, poll_frequency=0.25).until(condition)
+    except TimeoutException:
+        errors = status(driver, "errors")
+        message = driver.execute_script(
+            "const m = document.getElementById('message'); return m.hidden ? '' : m.textContent"
+        )
+        pytest.fail(f"waited {seconds} s for {what}; page errors: {errors!r}; message: {message!r}")
+
+
+def status(driver, name):
+    return driver.execute_script(
+        "return document.getElementById('app-status').dataset[arguments[0]] || ''", name
+    )
+
+
+def click(driver, element):
+    driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", element)
+    element.click()
+
+
+def card(driver, path):
+    for element in driver.find_elements(By.CSS_SELECTOR, "#meshes .card"):
+        if element.get_attribute("data-path") == path:
+            return element
+    return None
+
+
+def fetch_text(driver, url):
+    """`url` fetched by the page itself (its cookie, its origin): (status, text)."""
+    return driver.execute_async_script(
+        """
+        const done = arguments[arguments.length - 1];
+        fetch(arguments[0], {credentials: "same-origin"})
+          .then(async (r) => done([r.status, await r.text()]))
+          .catch((e) => done([0, String(e)]));
+        """,
+        url,
+    )
+
+
+def test_page_lists_the_meshes_names_as_text(page, shots):
+    wait(
+        page,
+        60,
+        "a card for every mesh",
+        lambda d: (
+            {c.get_attribute("data-path") for c in d.find_elements(By.CSS_SELECTOR, ".card")}
+            >= EXPECTED
+        ),
+    )
+    paths = [c.get_attribute("data-path") for c in page.find_elements(By.CSS_SELECTOR, ".card")]
+    assert sorted(paths) == sorted(EXPECTED)
+
+    # the corrupt file's card says why, in the error style
+    wait(
+        page,
+        60,
+        "the bad file's error",
+        lambda d: card(d, "bad.ply").find_elements(By.CSS_SELECTOR, ".error"),
+    )
+    error = card(page, "bad.ply").find_element(By.CSS_SELECTOR, ".error").text
+    assert error.strip()
+    for path in READABLE:
+        assert not card(page, path).find_elements(By.CSS_SELECTOR, ".error"), path
+
+    # the HTML name is text: no <b> element anywhere in the meshes, the name shown as written
+    html_card = card(page, HTML_NAME)
+    assert html_card.find_element(By.CSS_SELECTOR, ".name").text == HTML_NAME
+    assert page.execute_script("return document.querySelectorAll('#meshes b').length") == 0
+    assert page.execute_script("return document.querySelectorAll('main b').length") == 0
+    # the groups: a heading for the subfolder
+    headings = [h.text for h in page.find_elements(By.CSS_SELECTOR, "#meshes .group-title")]
+    assert "sub" in headings
+    page.save_screenshot(str(shots / "1-meshes.png"))
+    assert status(page, "errors") == ""
+
+
+def vertex_colors(driver):
+    return driver.execute_script(
+        "const v = document.getElementById('view');"
+        "return v.data && v.data[0] && v.data[0].vertexcolor ? Array.from(v.data[0].vertexcolor)"
+        " : null"
+    )
+
+
+def test_crop_slider_recolours_the_view(page, shots):
+    click(page, card(page, "tooth.ply"))
+    wait(page, 90, "the oriented crown in the view", lambda d: vertex_colors(d))
+    before = vertex_colors(page)
+    assert REMOVED not in before  # no crop yet: every vertex in the tooth colour
+    share_before = page.find_element(By.ID, "crop-share").text
+    assert share_before.startswith("0.0%")
+    found_up = page.find_element(By.ID, "found-up").text
+    assert len(found_up.split(",")) == 3
+
+    slider = page.find_element(By.ID, "crop")
+    top = float(slider.get_attribute("max"))
+    assert top > 0
+    previews = (
+        "return performance.getEntriesByType('resource')"
+        ".filter(e => e.name.includes('/api/preview')).length"
+    )
+    previews_before = page.execute_script(previews)
+    assert previews_before >= 1
+    page.execute_script(
+        "const s = document.getElementById('crop');"
+        "s.value = String(Number(s.max) * 0.3);"
+        "s.dispatchEvent(new Event('input', {bubbles: true}));"
+    )
+    wait(
+        page,
+        10,
+        "the removed share",
+        lambda d: d.find_element(By.ID, "crop-share").text != share_before,
+    )
+    wait(page, 10, "the colours", lambda d: vertex_colors(d) != before)
+    after = vertex_colors(page)
+    assert len(after) == len(before)
+    removed = after.count(REMOVED)
+    assert 0 < removed < len(after)
+    share = float(page.find_element(By.ID, "crop-share").text.split("%")[0])
+    assert share == pytest.approx(100 * removed / len(after), abs=0.06)
+    # the slider is the page's own: moving it asked the server nothing
+    assert page.execute_script(previews) == previews_before
+    page.save_screenshot(str(shots / "2-crop.png"))
+
+    # back to no crop: everything in the tooth colour again
+    page.execute_script(
+        "const s = document.getElementById('crop'); s.value = '0';"
+        "s.dispatchEvent(new Event('input', {bubbles: true}));"
+    )
+    wait(page, 10, "the colours without a crop", lambda d: REMOVED not in vertex_colors(d))
+    assert status(page, "errors") == ""
+
+
+def _number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+def relative(name, folder):
+    """A table's file name as the app names the mesh (relative to the folder, with "/")."""
+    name = name.replace("\\", "/")
+    if os.path.isabs(name):
+        name = Path(os.path.relpath(name, folder)).as_posix()
+    return name[2:] if name.startswith("./") else name
+
+
+def test_batch_rows_are_the_table_written(page, shots, folder):
+    # ariaDNE only, one job, measured as read
+    page.execute_script(
+        "for (const box of document.querySelectorAll('#metrics input'))"
+        "  box.checked = box.value === 'ariadne';"
+        "document.getElementById('jobs').value = '1';"
+        "document.getElementById('prepare-before').checked = false;"
+    )
+    assert page.execute_script(
+        "return Array.from(document.querySelectorAll('#metrics input:checked'), b => b.value)"
+    ) == ["ariadne"]
+    click(page, page.find_element(By.ID, "run"))
+    wait(
+        page,
+        240,
+        "the run to end",
+        lambda d: (
+            d.find_element(By.ID, "progress").get_attribute("data-state")
+            in ("done", "failed", "cancelled")
+        ),
+    )
+    state = page.find_element(By.ID, "progress").get_attribute("data-state")
+    log = page.execute_script("return document.getElementById('log').textContent")
+    assert state == "done", log
+    progress = page.find_element(By.ID, "progress").text
+    done, total = (int(x) for x in progress.split("/"))
+    assert done == total and total in (len(READABLE), len(EXPECTED)), progress
+
+    code, text = fetch_text(page, "/api/state")
+    assert code == 200
+    table = Path(json.loads(text)["table"])
+    assert table.name == "results.csv"
+    with table.open(newline="", encoding="utf-8") as handle:
+        written = list(csv.DictReader(handle))
+    for row in written:
+        row["file"] = relative(row["file"], folder)
+    files = [row["file"] for row in written]
+    assert set(files) >= READABLE
+    assert set(files) <= EXPECTED
+    assert len(files) == len(set(files))
+
+    wait(
+        page,
+        30,
+        "one table row per row written",
+        lambda d: len(d.find_elements(By.CSS_SELECTOR, "#results tbody tr")) == len(written),
+    )
+    header = page.execute_script(
+        "return Array.from(document.querySelectorAll('#results thead th'), th => th.dataset.column)"
+    )
+    assert header[0] == "file"
+    assert set(header) <= set(written[0]), "a column the table file does not have"
+    shown = page.execute_script(
+        """
+        const header = Array.from(document.querySelectorAll('#results thead th'),
+                                  (th) => th.dataset.column);
+        return Array.from(document.querySelectorAll('#results tbody tr'), (tr) => {
+          const row = {};
+          Array.from(tr.cells).forEach((td, i) => { row[header[i]] = td.dataset.v; });
+          return row;
+        });
+        """
+    )
+    by_file = {row["file"]: row for row in written}
+    assert sorted(relative(row["file"], folder) for row in shown) == sorted(by_file)
+    for row in shown:
+        expected = by_file[relative(row["file"], folder)]
+        for column in header:
+            if column == "file":
+                continue
+            a, b = row[column], expected[column]
+            x, y = _number(a), _number(b)
+            if x is not None and y is not None:
+                assert math.isclose(x, y, rel_tol=1e-9, abs_tol=1e-12) or (
+                    math.isnan(x) and math.isnan(y)
+                ), (row["file"], column, a, b)
+            else:
+                assert (a or "") == (b or ""), (row["file"], column, a, b)
+    # the file names in the table are text too
+    assert page.execute_script("return document.querySelectorAll('#results b').length") == 0
+
+    # the filter hides what does not match
+    page.execute_script(
+        "const f = document.getElementById('filter'); f.value = 'saddle';"
+        "f.dispatchEvent(new Event('input'));"
+    )
+    visible = page.execute_script(
+        "return Array.from(document.querySelectorAll('#results tbody tr'))"
+        ".filter(tr => !tr.hidden).map(tr => tr.dataset.file)"
+    )
+    assert visible == ["saddle.ply"]
+    page.execute_script(
+        "const f = document.getElementById('filter'); f.value = '';"
+        "f.dispatchEvent(new Event('input'));"
+    )
+    page.execute_script("document.getElementById('measure-section').scrollIntoView()")
+    page.save_screenshot(str(shots / "3-run.png"))
+    assert status(page, "errors") == ""
+
+
+def test_csv_link_gives_the_table(page, shots, folder):
+    link = page.find_element(By.ID, "export-csv")
+    href = link.get_attribute("href")
+    assert "/api/export/table?format=csv" in href
+    code, text = fetch_text(page, href)
+    assert code == 200, text
+    assert text.startswith("file,")
+    rows = list(csv.DictReader(io.StringIO(text)))
+    shown = page.execute_script(
+        "return Array.from(document.querySelectorAll('#results tbody tr'), tr => tr.dataset.file)"
+    )
+    assert sorted(relative(row["file"], folder) for row in rows) == sorted(
+        relative(name, folder) for name in shown
+    )
+    assert set(shown) >= READABLE
+
+    page.execute_script("document.getElementById('results-section').scrollIntoView()")
+    page.save_screenshot(str(shots / "4-results.png"))
+    page.execute_script("window.scrollTo(0, 0)")
+    page.save_screenshot(str(shots / "5-top.png"))
+    assert all((shots / name).stat().st_size > 0 for name in ("4-results.png", "5-top.png"))
+    assert status(page, "errors") == ""
