@@ -182,6 +182,13 @@ def status(driver, name):
     )
 
 
+def page_too_wide(driver):
+    """Whether the page needs a horizontal scroll bar (something wider than the window)."""
+    return driver.execute_script(
+        "const root = document.documentElement; return root.scrollWidth > root.clientWidth + 1"
+    )
+
+
 def click(driver, element):
     driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", element)
     element.click()
@@ -414,6 +421,8 @@ def test_batch_rows_are_the_table_written(page, shots, folder):
     )
     page.execute_script("document.getElementById('measure-section').scrollIntoView()")
     page.save_screenshot(str(shots / "3-run.png"))
+    # the long command line and the wide table stay inside the window
+    assert not page_too_wide(page)
     assert status(page, "errors") == ""
 
 

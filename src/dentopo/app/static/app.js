@@ -191,6 +191,7 @@ function drawHeader(state) {
   $("folder").textContent = state.folder || "";
   $("output").textContent = state.output || "";
   $("version").textContent = state.version || "";
+  $("table-path").textContent = state.table || "";
   const label = state.protocol_label || (state.protocol ? state.protocol.name : null);
   $("protocol-summary").textContent = state.protocol
     ? "Folder protocol: " + (label || "custom") + " (used for every mesh without its own)."
@@ -815,7 +816,7 @@ function drawRun(run) {
     el("span", { className: "status status-" + info.status, text: String(info.status) }), " ",
     el("span", { text: path }),
     info.seconds !== null && info.seconds !== undefined ? el("span", { className: "muted", text: " " + Number(info.seconds).toFixed(1) + " s" }) : null,
-    info.error ? el("span", { className: "error", text: " \u2014 " + info.error }) : null)));
+    info.error ? el("span", { className: "error " + info.status, text: " \u2014 " + info.error }) : null)));
   const log = $("log");
   const lines = (run.log || []).map(String).join("\n");
   if (log.textContent !== lines) {
