@@ -276,6 +276,7 @@ def test_crop_slider_recolours_the_view(page, shots):
         "return performance.getEntriesByType('resource')"
         ".filter(e => e.name.includes('/api/preview')).length"
     )
+    page.execute_script("performance.setResourceTimingBufferSize(100000)")
     previews_before = page.execute_script(previews)
     assert previews_before >= 1
     page.execute_script(

@@ -256,13 +256,21 @@ function newCard(path) {
   return card;
 }
 
+function thumbnail(path) {
+  const img = el("img", {
+    className: "thumb", alt: "", loading: "lazy",
+    src: "/api/thumbnail?path=" + encodeURIComponent(path),
+  });
+  img.addEventListener("error", () => {
+    img.replaceWith(el("div", { className: "thumb", text: "no picture" }));
+  }, { once: true });
+  return img;
+}
+
 function fillCard(card, mesh) {
   const old = card.querySelector("img.thumb");
   const thumb = mesh.thumbnail
-    ? old || el("img", {
-      className: "thumb", alt: "", loading: "lazy",
-      src: "/api/thumbnail?path=" + encodeURIComponent(mesh.path),
-    })
+    ? old || thumbnail(mesh.path)
     : el("div", { className: "thumb", text: mesh.error ? "no picture" : "\u2026" });
   const size = [humanBytes(mesh.bytes)];
   if (mesh.vertices !== null && mesh.vertices !== undefined) size.push(count(mesh.vertices) + " vertices");
@@ -566,6 +574,7 @@ function updateCropText() {
     $("crop-value").textContent = "remove below " + formatNumber(Number(height.toPrecision(4)))
       + " (of " + formatNumber(Number(range.toPrecision(4))) + ") above the lowest point";
   }
+  $("crop").setAttribute("aria-valuetext", $("crop-value").textContent);
   if (app.oriented) {
     const { removed, total } = cropColors();
     const share = total ? (100 * removed) / total : 0;
