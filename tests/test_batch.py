@@ -117,6 +117,20 @@ def test_find_mesh_files_dedupes_links_and_skips_hidden_and_own_outputs(tmp_path
     assert find_mesh_files([tmp_path / "readme.txt"]).files == [str(tmp_path / "readme.txt")]
 
 
+def test_find_mesh_files_skips_the_apps_output_folder_unless_named(tmp_path):
+    from dentopo.batch import OUTPUT_FOLDER_MARK
+
+    tooth(rings=6).export(tmp_path / "a.ply")
+    prepared = tmp_path / "dentopo-app" / "prepared"
+    prepared.mkdir(parents=True)
+    tooth(rings=6).export(prepared / "a.ply")
+    assert len(find_mesh_files([tmp_path]).files) == 2  # no mark: an ordinary folder
+    (tmp_path / "dentopo-app" / OUTPUT_FOLDER_MARK).write_text("")
+    assert find_mesh_files([tmp_path]).files == [str(tmp_path / "a.ply")]
+    # the folder itself, named, is searched: the mark only hides it below another
+    assert find_mesh_files([prepared]).files == [str(prepared / "a.ply")]
+
+
 @pytest.mark.parametrize("ext", ["csv", "json"])
 def test_tables_read_back_exactly(tmp_path, folder, ext):
     records = compute_batch(folder)

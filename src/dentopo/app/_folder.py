@@ -4,13 +4,14 @@ The meshes are found as the command finds them (:func:`dentopo.batch.find_mesh_f
 hidden entries and the tool's own outputs skipped), less the app's output folder
 and anything whose real path leaves the folder (a symlink out of it is not
 listed, and so never opened).  A mesh's group is its first subfolder (``""`` at
-the top), as the collection report groups by folder.
+the top), as the collection report groups by folder.  The folder is scanned
+again every few seconds while the page asks (a file copied in shows up).
 
 One background thread reads each mesh in turn (:func:`dentopo.load_mesh`): its
 vertex and face counts, or the reason it cannot be read, and a small occlusal
 thumbnail, drawn with matplotlib's Agg canvas (thread-safe without pyplot; VTK's
 off-screen renderer is not safe off the main thread) from the report's camera,
-faces shaded by how squarely they face it.  Thumbnails are cached in the output
+faces lit from the upper left.  Thumbnails are cached in the output
 folder under ``.app/thumbnails``, keyed by the file's path, size and time.
 """
 
@@ -20,6 +21,7 @@ import hashlib
 import io
 import os
 import threading
+import time
 import warnings
 from dataclasses import dataclass
 
@@ -31,8 +33,12 @@ from ..mesh import load_mesh
 from ..report import report_camera
 from ._security import inside, relative_to
 
+#: Seconds between scans of the folder while the page asks for its state.
+RESCAN_SECONDS = 5.0
 #: Thumbnail width and height, pixels.
 THUMBNAIL_PIXELS = 160
+#: The thumbnail's light, in the camera's axes (right, up, towards the viewer).
+LIGHT = np.array([-0.45, 0.55, 0.70]) / np.linalg.norm([-0.45, 0.55, 0.70])
 #: Faces drawn in a thumbnail at most (larger meshes are decimated for the picture only).
 THUMBNAIL_FACES = 20_000
 
@@ -79,6 +85,7 @@ class Folder:
         self._entries: dict[str, MeshEntry] = {}
         self._thread: threading.Thread | None = None
         self._stop = threading.Event()
+        self._scanned = 0.0
         self.scan()
 
     def scan(self) -> None:
@@ -105,7 +112,13 @@ class Folder:
                 entries[relative] = MeshEntry(relative, real, group_of(relative), size)
         with self._lock:
             self._entries = entries
+            self._scanned = time.monotonic()
         self._start()
+
+    def refresh(self, seconds: float = RESCAN_SECONDS) -> None:
+        """Scan again if the last scan is older than `seconds` (files added or removed show)."""
+        if time.monotonic() - self._scanned > seconds:
+            self.scan()
 
     def entries(self) -> list[MeshEntry]:
         """The meshes, sorted by path."""
@@ -162,7 +175,7 @@ def inspect(entry: MeshEntry, thumbnails: str) -> None:
             mesh = load_mesh(entry.real)
         entry.vertices, entry.faces = len(mesh.vertices), len(mesh.faces)
     except Exception as exc:  # a bad file is data: its reason is shown
-        entry.error = error_reason(exc)
+        entry.error = error_reason(exc).replace(entry.real, entry.path)  # the name the page shows
         entry.inspected = True
         return
     try:
@@ -195,9 +208,11 @@ def draw_thumbnail(vertices: np.ndarray, faces: np.ndarray, pixels: int = THUMBN
     tri = seen[faces]
     normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     length = np.linalg.norm(normals, axis=1)
-    facing = np.abs(normals[:, 2]) / np.where(length > 0, length, 1.0)
+    normals = normals / np.where(length > 0, length, 1.0)[:, None]
+    normals *= np.where(normals[:, 2] < 0, -1.0, 1.0)[:, None]  # either winding faces the camera
+    lit = np.clip(normals @ LIGHT, 0.0, 1.0)  # a light from the upper left, as in a paper figure
     order = np.argsort(tri[:, :, 2].mean(axis=1))  # far faces first, near ones drawn over
-    shade = 0.35 + 0.65 * facing[order]
+    shade = 0.3 + 0.7 * lit[order]
     tooth = np.array([0.91, 0.86, 0.77])
     colors = np.clip(shade[:, None] * tooth, 0, 1)
     figure = Figure(figsize=(1, 1), dpi=pixels)

@@ -31,7 +31,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..ariadne import DISTANCE_TYPES, METHODS
-from ..batch import available_cores
+from ..batch import OUTPUT_FOLDER_MARK, available_cores
 from ..formats import atomic_write, convert_table, journal_path, read_journal, read_table
 from ..mesh import load_mesh
 from ..prepare import DECIMATORS, SMOOTHERS, Protocol, ProtocolError, read_protocol
@@ -61,6 +61,13 @@ EXPORTS = {
     "tsv": (".tsv", "text/tab-separated-values"),
     "xlsx": (".xlsx", "application/vnd.openxmlformats-officedocument.spreadsheetml.sheet"),
 }
+
+
+_MARK_TEXT = (
+    "dentopo app writes into this folder. The dentopo command, searching a folder for meshes,\n"
+    "skips a subfolder holding this file, so that the prepared meshes here are not measured\n"
+    "again as scans.\n"
+)
 
 
 class AppError(ValueError):
@@ -178,6 +185,9 @@ class Workspace:
             raise AppError(f"not a folder: {root}")
         self.output = os.path.realpath(output or os.path.join(self.root, OUTPUT_NAME))
         os.makedirs(os.path.join(self.output, ".app"), exist_ok=True)
+        mark = os.path.join(self.output, OUTPUT_FOLDER_MARK)
+        if not os.path.exists(mark):  # dentopo FOLDER then skips it: prepared copies are no scans
+            atomic_write(mark, lambda s: s.write(_MARK_TEXT))
         self.folder = Folder(self.root, self.output)
         self.table = os.path.join(self.output, TABLE)
         self._lock = threading.Lock()
@@ -268,6 +278,7 @@ class Workspace:
     # -- the page's state -----------------------------------------------------------------------
 
     def state(self) -> dict:
+        self.folder.refresh()
         folder_protocol = self.folder_protocol()
         meshes = []
         for entry in self.folder.entries():

@@ -12,7 +12,15 @@ May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topograph
 :mod:`dentopo.formats`.  Nothing from figures, study or cli.
 """
 
-from ._inputs import FORMAT_PACKAGES, MESH_EXTENSIONS, FoundInputs, find_mesh_files, is_own_output
+from ._inputs import (
+    FORMAT_PACKAGES,
+    MESH_EXTENSIONS,
+    OUTPUT_FOLDER_MARK,
+    FoundInputs,
+    find_mesh_files,
+    is_own_output,
+    is_own_output_folder,
+)
 from ._interrupts import Interrupted, guard_interrupts
 from ._pool import run_pool
 from ._prepare import (
@@ -50,6 +58,7 @@ from ._runner import (
 __all__ = [
     "FORMAT_PACKAGES",
     "MESH_EXTENSIONS",
+    "OUTPUT_FOLDER_MARK",
     "BatchResult",
     "FoundInputs",
     "Interrupted",
@@ -68,6 +77,7 @@ __all__ = [
     "guard_interrupts",
     "is_done",
     "is_own_output",
+    "is_own_output_folder",
     "make_settings",
     "merge_records",
     "output_names",

@@ -56,6 +56,16 @@ def is_own_output(path: str) -> bool:
     return stem.endswith(OUTPUT_SUFFIX)
 
 
+#: A file that marks a folder as this tool's own output (``dentopo app``'s): folders searched
+#: for meshes skip a subfolder holding it, so that prepared copies are not measured as scans.
+OUTPUT_FOLDER_MARK = ".dentopo-output"
+
+
+def is_own_output_folder(path: str) -> bool:
+    """True for a folder this tool writes its outputs into (it holds :data:`OUTPUT_FOLDER_MARK`)."""
+    return os.path.isfile(os.path.join(path, OUTPUT_FOLDER_MARK))
+
+
 def _is_hidden(name: str) -> bool:
     return name.startswith(".")
 
@@ -66,7 +76,11 @@ def _search_directory(
     """Mesh files below `directory`; `skipped` collects the files of unreadable formats."""
     found = []
     for root, dirnames, filenames in os.walk(directory, followlinks=False):
-        dirnames[:] = sorted(d for d in dirnames if not _is_hidden(d))
+        dirnames[:] = sorted(
+            d
+            for d in dirnames
+            if not _is_hidden(d) and not is_own_output_folder(os.path.join(root, d))
+        )
         for name in filenames:
             ext = os.path.splitext(name)[1][1:].lower()
             if _is_hidden(name) or ext not in extensions:
@@ -92,7 +106,8 @@ def find_mesh_files(inputs: Iterable[str | os.PathLike]) -> FoundInputs:
     inputs : iterable of str or path-like
         Each is a file (kept whatever its extension), a directory (searched
         recursively for the formats in :func:`mesh_extensions`, skipping
-        hidden entries and ``*.dentopo.*`` outputs) or, if no such path
+        hidden entries, ``*.dentopo.*`` outputs and the subfolders
+        ``dentopo app`` writes into) or, if no such path
         exists, a shell-style glob pattern (``**`` matches nested folders).
         A path that exists neither as a file nor as a pattern is kept as a
         file, so that the batch reports it as not found.
