@@ -310,6 +310,45 @@ def test_crop_slider_recolours_the_view(page, shots):
     assert status(page, "errors") == ""
 
 
+def api(driver, method, path, body=None):
+    """The page's own request (its secret header), answered as JSON."""
+    return driver.execute_async_script(
+        "const [method, path, body, done] = arguments;"
+        "const token = document.querySelector('meta[name=dentopo-token]').content;"
+        "fetch(path, {method, headers: {'Content-Type': 'application/json',"
+        " 'X-Dentopo-Token': token}, body: body === null ? undefined : JSON.stringify(body)})"
+        ".then(r => r.json()).then(done, e => done({error: String(e)}));",
+        method,
+        path,
+        body,
+    )
+
+
+def test_apply_to_all_as_a_share_of_the_height_saves_a_fraction(page):
+    page.execute_script(
+        "const s = document.getElementById('crop');"
+        "s.value = String(Number(s.max) * 0.25);"
+        "s.dispatchEvent(new Event('input', {bubbles: true}));"
+    )
+    box = page.find_element(By.ID, "crop-as-share")
+    if not box.is_selected():
+        click(page, box)
+    assert "25%" in page.find_element(By.ID, "crop-value").text
+    click(page, page.find_element(By.ID, "apply-all"))
+
+    def saved(driver):
+        protocol = api(driver, "GET", "/api/state")["protocol"]
+        return protocol if protocol and protocol.get("crop_fraction") else None
+
+    protocol = wait(page, 30, "the folder's protocol", saved)
+    assert protocol["crop_fraction"] == pytest.approx(0.75, abs=0.005)
+    assert protocol["crop_below"] is None  # each crown cropped at its own height
+    api(page, "POST", "/api/protocol", {"scope": "all", "protocol": None})  # as it was
+    assert api(page, "GET", "/api/state")["protocol"] is None
+    click(page, box)  # unticked again
+    assert status(page, "errors") == ""
+
+
 def _number(text):
     try:
         return float(text)

@@ -354,9 +354,12 @@ function readForm() {
   p.up = readUp();
   if (p.orient === "none") { p.up = null; p.spin = "none"; }
   const height = cropHeight();
-  if (app.cropTouched || height > 0) {
-    p.crop_below = height > 0 ? height : null;
-    p.crop_fraction = null;
+  if (app.cropTouched) {  // untouched, the protocol's own crop stays exactly as it was
+    const range = Number($("crop").max) || 0;
+    const share = $("crop-as-share").checked && height > 0 && range > 0;
+    // as a share: keep the top (1 - H / height) of each crown (crop_fraction), whatever its size
+    p.crop_below = height > 0 && !share ? height : null;
+    p.crop_fraction = share ? Math.min(1, Math.max(1e-6, 1 - height / range)) : null;
     p.crop_plane = null;
   }
   p.faces = optionalInt("p-faces", "target faces");
@@ -532,13 +535,16 @@ function setupCrop(answer) {
   const base = app.base || DEFAULT_PROTOCOL;
   if (!app.cropTouched && keep === 0) {
     if (base.crop_below !== null && base.crop_below !== undefined) height = Number(base.crop_below);
+    const fraction = base.crop_fraction;
+    if (fraction !== null && fraction !== undefined) height = (1 - Number(fraction)) * range;
+    $("crop-as-share").checked = fraction !== null && fraction !== undefined;
   }
   slider.value = String(Math.min(height, range));
   const note = $("crop-note");
   if (!app.cropTouched && base.crop_fraction !== null && base.crop_fraction !== undefined) {
     note.hidden = false;
     note.textContent = "The protocol keeps the top " + Math.round(base.crop_fraction * 100)
-      + "% of the height; moving the slider replaces it by a height.";
+      + "% of each crown's height.";
   } else if (!app.cropTouched && base.crop_plane) {
     note.hidden = false;
     note.textContent = "The protocol crops by a plane; moving the slider replaces it by a height.";
@@ -567,9 +573,13 @@ function cropColors() {
 function updateCropText() {
   const height = cropHeight();
   const range = Number($("crop").max) || 0;
-  $("crop-all").hidden = height <= 0;
+  $("crop-all").hidden = height <= 0 || $("crop-as-share").checked;
   if (height <= 0) {
     $("crop-value").textContent = "no crop";
+  } else if ($("crop-as-share").checked && range > 0) {
+    $("crop-value").textContent = "remove the bottom " + formatNumber(Number((100 * height / range).toPrecision(3)))
+      + "% of each crown's height (here " + formatNumber(Number(height.toPrecision(4))) + " of "
+      + formatNumber(Number(range.toPrecision(4))) + ")";
   } else {
     $("crop-value").textContent = "remove below " + formatNumber(Number(height.toPrecision(4)))
       + " (of " + formatNumber(Number(range.toPrecision(4))) + ") above the lowest point";
@@ -646,6 +656,13 @@ function drawSteps(answer) {
   $("steps").tBodies[0].replaceChildren(...rows);
   $("steps").hidden = rows.length === 0;
 }
+
+$("crop-as-share").addEventListener("change", () => {
+  app.cropTouched = true;
+  $("crop-note").hidden = true;
+  $("steps-stale").hidden = !app.preview;
+  updateCropText();
+});
 
 let cropFrame = 0;
 $("crop").addEventListener("input", () => {
