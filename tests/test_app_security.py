@@ -297,12 +297,15 @@ def test_inside_follows_symlinks(tmp_path):
         inside(str(tmp_path / "in"), "up/outside.ply")
 
 
-def test_another_host_warns(study):
+def test_every_interface_warns_and_still_refuses_foreign_names(study):
     folder, _ = study
     running = start(folder, "--host", "0.0.0.0")
     try:
-        status, _, _ = running.request("GET", "/api/state", host=f"127.0.0.1:{running.port}")
-        assert status == 200
+        for host in ("127.0.0.1", "192.0.2.7", "[2001:db8::1]", socket.gethostname()):
+            status, _, _ = running.request("GET", "/api/state", host=f"{host}:{running.port}")
+            assert status == 200, host  # any address of this computer's, or its name
+        status, _, _ = running.request("GET", "/api/state", host=f"evil.example:{running.port}")
+        assert status == 403  # a name that is not this computer's: still refused
         deadline = time.monotonic() + 10
         while time.monotonic() < deadline and not running.errors:
             time.sleep(0.1)

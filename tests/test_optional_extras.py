@@ -219,6 +219,7 @@ def test_core_commands_work_without_extras(bare, tmp_path):
         (["sweep", "TOOTH", "-o", "sweep"], {}, "study"),
         (["report", "results.csv", "-o", "x.html"], {}, "report"),
         (["--samples", "-o", "t.csv", "--report", "x.html"], {}, "report"),
+        (["app", ".", "--no-browser"], {}, "app"),
     ],
 )
 def test_a_missing_extra_is_one_line_and_exit_2(bare, tmp_path, options, env, extra):

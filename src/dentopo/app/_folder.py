@@ -190,19 +190,26 @@ def inspect(entry: MeshEntry, thumbnails: str) -> None:
     entry.inspected = True
 
 
+def simplified(vertices, faces, target: int) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh with at most about `target` faces, for a picture only (quadric edge collapse)."""
+    if len(faces) <= target:
+        return np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)
+    # writable copies: the simplifier refuses read-only arrays (a prepared crown's)
+    vertices = np.array(vertices, dtype=np.float64, order="C")
+    faces = np.array(faces, dtype=np.int64, order="C")
+    import fast_simplification
+
+    vertices, faces = fast_simplification.simplify(vertices, faces, 1 - target / len(faces))
+    return np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)
+
+
 def draw_thumbnail(vertices: np.ndarray, faces: np.ndarray, pixels: int = THUMBNAIL_PIXELS):
     """PNG bytes: the mesh seen from the report's occlusal camera, faces shaded."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.collections import PolyCollection
     from matplotlib.figure import Figure
 
-    if len(faces) > THUMBNAIL_FACES:
-        import fast_simplification
-
-        vertices, faces = fast_simplification.simplify(
-            vertices.astype(np.float32), faces.astype(np.int64), 1 - THUMBNAIL_FACES / len(faces)
-        )
-        vertices = np.asarray(vertices, dtype=np.float64)
+    vertices, faces = simplified(vertices, faces, THUMBNAIL_FACES)
     axes = report_camera(vertices, faces)
     seen = vertices @ axes.T  # right, up, towards the viewer
     tri = seen[faces]

@@ -137,8 +137,9 @@ class Job:
                     self.log.append(f"cannot start dentopo: {exc}")
                     self.codes.append(2)
                     break
-            for line in self._process.stderr:
-                self.log.append(line.rstrip("\n"))
+            with self._process.stderr:
+                for line in self._process.stderr:
+                    self.log.append(line.rstrip("\n"))
             code = self._process.wait()
             self.codes.append(code)
             if self.after is not None:

@@ -59,7 +59,9 @@ async def _json_body(request: Request):
         raise AppError("the request is not valid JSON") from None
 
 
-def build_app(workspace: Workspace, token: str, *, port: int = 0, hosts=()) -> Guard:
+def build_app(
+    workspace: Workspace, token: str, *, port: int = 0, hosts=(), any_address: bool = False
+) -> Guard:
     """The ASGI application for `workspace`, behind the guard of secret `token`."""
 
     def handled(function):
@@ -228,4 +230,4 @@ def build_app(workspace: Workspace, token: str, *, port: int = 0, hosts=()) -> G
         Route("/output/{path:path}", handled(output_file)),
     ]
     app = Starlette(routes=routes, exception_handlers={404: not_found, 405: not_allowed})
-    return Guard(app, token, port=port, hosts=hosts)
+    return Guard(app, token, port=port, hosts=hosts, any_address=any_address)

@@ -4,7 +4,8 @@ A local server is a door into the user's files, so every request passes one
 ASGI middleware (:class:`Guard`) before any route sees it:
 
 1. **Host.**  The ``Host`` header must name the loopback (``127.0.0.1``,
-   ``localhost``, ``[::1]``) or the address given with ``--host``, and the
+   ``localhost``, ``[::1]``) or the address given with ``--host`` (for
+   ``--host 0.0.0.0``, any IP address and this computer's names), and the
    server's port.  A page on another site that the attacker's DNS points at
    127.0.0.1 (DNS rebinding) sends its own name: it gets 403.
 2. **The secret.**  Every request carries the secret printed in the app's
@@ -36,6 +37,7 @@ from __future__ import annotations
 
 import hmac
 import http.cookies
+import ipaddress
 import json
 import os
 from urllib.parse import parse_qs, urlsplit
@@ -109,6 +111,14 @@ def _split_host(host: str) -> tuple[str, int | None]:
     return (parts.hostname or ""), port
 
 
+def _is_ip(name: str) -> bool:
+    try:
+        ipaddress.ip_address(name)
+    except ValueError:
+        return False
+    return True
+
+
 def cookie_name(port: int) -> str:
     """The cookie that keeps the secret for the app on `port`."""
     return f"dentopo-app-{port}"
@@ -127,13 +137,18 @@ class Guard:
         0 until the server is bound (:meth:`bind`).
     hosts : sequence of str
         Further host names accepted besides the loopback (``--host``).
+    any_address : bool
+        Also accept any IP address as the Host (the server listens on every
+        interface: ``--host 0.0.0.0``).  A DNS-rebinding page sends a name,
+        never an address, so this keeps that door shut.
     """
 
-    def __init__(self, app, token: str, port: int = 0, hosts=()):
+    def __init__(self, app, token: str, port: int = 0, hosts=(), any_address: bool = False):
         self.app = app
         self.token = token
         self.port = port
         self.hosts = {h.lower().strip("[]") for h in hosts}
+        self.any_address = any_address
 
     def bind(self, port: int) -> None:
         """The port the server is listening on (known once it is bound)."""
@@ -162,7 +177,8 @@ class Guard:
         if host is None:
             return 400, "the request names no Host"
         name, port = _split_host(host)
-        if name.lower() not in (*LOOPBACK, *self.hosts) or (self.port and port != self.port):
+        known = name.lower() in (*LOOPBACK, *self.hosts) or (self.any_address and _is_ip(name))
+        if not known or (self.port and port != self.port):
             return 403, f"refused: Host {host!r} is not this app's address"
         given = self._given_token(scope)
         if given is None:

@@ -17,6 +17,8 @@ from ._routes import build_app
 from ._security import LOOPBACK
 from ._workspace import Workspace
 
+#: Addresses that mean every interface.
+WILDCARDS = ("0.0.0.0", "::", "")
 #: The port tried first when none is given (another is chosen if it is taken).
 DEFAULT_PORT = 8765
 
@@ -59,13 +61,20 @@ class AppServer:
         self.token = secrets.token_urlsafe(32)
         self.socket = _bind(host, DEFAULT_PORT if port is None else port, fallback=port is None)
         self.port = self.socket.getsockname()[1]
-        hosts = () if is_loopback(host) else (host,)
-        self.app = build_app(self.workspace, self.token, port=self.port, hosts=hosts)
+        wildcard = host.strip("[]") in WILDCARDS
+        hosts: tuple[str, ...] = () if is_loopback(host) else (host,)
+        if wildcard:  # every interface: reached by any of this computer's addresses or names
+            hosts = (socket.gethostname(), socket.getfqdn())
+        self.app = build_app(
+            self.workspace, self.token, port=self.port, hosts=hosts, any_address=wildcard
+        )
 
     @property
     def url(self) -> str:
         """The address to open: it carries the secret."""
-        shown = "127.0.0.1" if self.host in ("127.0.0.1", "0.0.0.0", "") else self.host
+        shown = "127.0.0.1" if self.host in ("127.0.0.1", *WILDCARDS) else self.host
+        if shown == "::":
+            shown = "::1"
         if ":" in shown and not shown.startswith("["):
             shown = f"[{shown}]"
         return f"http://{shown}:{self.port}/?token={self.token}"

@@ -38,7 +38,7 @@ from ..prepare import DECIMATORS, SMOOTHERS, Protocol, ProtocolError, read_proto
 from ..report import pack_mesh
 from ..sign import SIGN_METHODS
 from ..topography import GROUPS, METRICS
-from ._folder import Folder
+from ._folder import Folder, simplified
 from ._jobs import Job
 from ._security import inside
 
@@ -653,15 +653,7 @@ def _json_row(row: dict) -> dict:
 def _view_payload(vertices, faces) -> dict:
     from ..figures import color_scale
 
-    vertices = np.asarray(vertices, dtype=np.float64)
-    faces = np.asarray(faces, dtype=np.int64)
-    if len(faces) > VIEW_FACES:
-        import fast_simplification
-
-        vertices, faces = fast_simplification.simplify(
-            vertices.astype(np.float32), faces, 1 - VIEW_FACES / len(faces)
-        )
-        vertices = np.asarray(vertices, dtype=np.float64)
+    vertices, faces = simplified(vertices, faces, VIEW_FACES)
     return pack_mesh(vertices, faces, np.zeros(len(vertices)), color_scale(limits=(-1.0, 1.0)))
 
 

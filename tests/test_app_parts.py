@@ -1,0 +1,80 @@
+"""The app's parts without a server: options, protocols, pictures of large meshes, jobs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("starlette")
+
+from dentopo.app import AppError, RunOptions
+from dentopo.app._folder import draw_thumbnail, group_of, simplified
+from dentopo.app._jobs import Job, shown
+from dentopo.app._workspace import protocol_from_json
+from dentopo.topography import GROUPS, METRICS
+
+
+def test_run_options_expand_sets_and_keep_the_table_order():
+    options = RunOptions.from_json({"metrics": ["slope", "molar", "ariadne"], "jobs": 2})
+    assert options.metrics == tuple(m for m in METRICS if m in {"ariadne", *GROUPS["molar"]})
+    arguments = options.arguments()
+    assert arguments[arguments.index("--metrics") + 1] == ",".join(options.metrics)
+    assert RunOptions.from_json({}) == RunOptions()
+
+
+@pytest.mark.parametrize(
+    "data",
+    [
+        {"bandwidth": float("nan")},
+        {"bandwidth": True},
+        {"cutoff": -0.1},
+        {"jobs": 1.5},
+        {"prepare": "yes"},
+        {"sign_method": "vote"},
+        [],
+    ],
+)
+def test_run_options_refuse_what_the_command_would(data):
+    with pytest.raises(AppError):
+        RunOptions.from_json(data)
+
+
+def test_protocols_from_the_page_are_checked_and_lists_become_tuples():
+    protocol = protocol_from_json({"up": [0, 0, 1], "faces": 500})
+    assert protocol.up == (0.0, 0.0, 1.0) and protocol.faces == 500 and protocol.name == "app"
+    with pytest.raises(AppError, match="faces"):
+        protocol_from_json({"faces": -3})
+    with pytest.raises(AppError, match="colour"):
+        protocol_from_json({"colour": "red"})
+
+
+def test_a_large_read_only_mesh_is_simplified_for_pictures_only(tooth):
+    from dentopo.samples import tooth as make_tooth
+
+    mesh = make_tooth(rings=120)
+    vertices = np.asarray(mesh.vertices).copy()
+    faces = np.asarray(mesh.faces).copy()
+    vertices.flags.writeable = False  # as a prepared crown's arrays are
+    faces.flags.writeable = False
+    before = vertices.copy()
+    small_v, small_f = simplified(vertices, faces, 5_000)
+    assert len(small_f) <= 5_100 and small_f.max() < len(small_v)
+    assert np.array_equal(vertices, before)  # never modified
+    png = draw_thumbnail(vertices, faces)
+    assert png.startswith(b"\x89PNG")
+
+
+def test_groups_are_the_first_folder():
+    assert group_of("a.ply") == "" and group_of("g/a.ply") == "g" and group_of("g/h/a.ply") == "g"
+
+
+def test_the_command_shown_is_quoted_for_a_shell():
+    text = shown(["--", "<img src=x>.ply", "a b.ply"], "/data/my scans")
+    assert text == "cd '/data/my scans' && dentopo -- '<img src=x>.ply' 'a b.ply'"
+
+
+def test_a_job_runs_its_commands_and_stops_at_a_usage_error(tmp_path):
+    job = Job([["--version"], ["--no-such-option"], ["--version"]], str(tmp_path)).start()
+    job.wait(120)
+    assert job.codes == [0, 2] and job.state == "failed"
+    assert any("no-such-option" in line for line in job.log)
