@@ -86,7 +86,10 @@ def test_a_run_writes_the_table_the_command_writes(server, folder):
     assert without_seconds(by_app) == without_seconds(read_table(typed))
     results = server.json("GET", "/api/results")
     assert [r["file"] for r in results["rows"]] == sorted(FILES)
-    assert "slope" in results["columns"]
+    columns = results["columns"]
+    assert columns[:2] == ["file", "status"]  # then the values asked for, settings after
+    assert columns.index("slope") < columns.index("vertices") < columns.index("bandwidth")
+    assert set(columns) <= set(read_table(state["table"])[0])
 
 
 def test_the_exports_are_the_table(server):

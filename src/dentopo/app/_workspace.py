@@ -32,7 +32,17 @@ import numpy as np
 
 from ..ariadne import DISTANCE_TYPES, METHODS
 from ..batch import OUTPUT_FOLDER_MARK, available_cores
-from ..formats import atomic_write, convert_table, journal_path, read_journal, read_table
+from ..formats import (
+    COLUMNS,
+    METRIC_KEYS,
+    PROTOCOL_KEY,
+    SETTING_KEYS,
+    atomic_write,
+    convert_table,
+    journal_path,
+    read_journal,
+    read_table,
+)
 from ..mesh import load_mesh
 from ..prepare import DECIMATORS, SMOOTHERS, Protocol, ProtocolError, read_protocol
 from ..report import pack_mesh
@@ -435,11 +445,17 @@ class Workspace:
         for relative in self.run_files:
             row = finished.get(relative)
             if row is None:
-                files[relative] = {"status": "waiting", "error": None, "seconds": None}
+                files[relative] = {
+                    "status": "waiting",
+                    "error": None,
+                    "warnings": None,
+                    "seconds": None,
+                }
             else:
                 files[relative] = {
                     "status": row.get("status"),
                     "error": row.get("error"),
+                    "warnings": row.get("warnings"),
                     "seconds": row.get("seconds"),
                 }
         return {
@@ -470,9 +486,10 @@ class Workspace:
         if self.run is not None and self.run.running():
             rows.update({r.get("file"): r for r in self._journal_rows()})
         ordered = [rows[k] for k in sorted(rows, key=str)]
-        columns: list[str] = []
-        for row in ordered:
-            columns += [k for k in row if k not in columns]
+        held = {k for row in ordered for k, v in row.items() if v is not None and v != ""}
+        order = _column_order()
+        columns = [k for k in order if k in held or k in ("file", "status")]
+        columns += sorted(held - set(order), key=[k for r in ordered for k in r].index)
         return {"columns": columns, "rows": [_json_row(r) for r in ordered]}
 
     def export_table(self, kind: str) -> tuple[bytes, str, str]:
@@ -627,6 +644,19 @@ class Workspace:
         for job in (self.run, self.report, self.export, *self.pictures.values()):
             if job is not None and job.running():
                 job.stop()
+
+
+def _column_order() -> list[str]:
+    """The page's columns: the file, its status and warnings, each metric's values (its headline
+    first), then the settings and counts; the table itself keeps the command's order."""
+    first = ["file", "status", "warnings", "error"]
+    headlines = [keys[0] for keys in METRIC_KEYS.values()]
+    rest = [k for keys in METRIC_KEYS.values() for k in keys[1:]]
+    settings = [k for keys in SETTING_KEYS.values() for k in keys]
+    ariadne = ["bandwidth", "cutoff", "distance_type", "sign_method", "method"]
+    order = first + headlines + rest + ["vertices", "faces", *ariadne, PROTOCOL_KEY]
+    order += [*settings, "orientation", "orient", "seconds"]
+    return list(dict.fromkeys(order + list(COLUMNS)))
 
 
 def _job_state(job: Job | None, url: str, exists: bool) -> dict:
