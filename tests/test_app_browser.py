@@ -259,6 +259,14 @@ def vertex_colors(driver):
     )
 
 
+def camera_eye(driver):
+    return driver.execute_script(
+        "const v = document.getElementById('view');"
+        "const c = v.layout && v.layout.scene && v.layout.scene.camera;"
+        "return c && c.eye ? [c.eye.x, c.eye.y, c.eye.z] : null"
+    )
+
+
 def test_crop_slider_recolours_the_view(page, shots):
     click(page, card(page, "tooth.ply"))
     wait(page, 90, "the oriented crown in the view", lambda d: vertex_colors(d))
@@ -268,6 +276,11 @@ def test_crop_slider_recolours_the_view(page, shots):
     assert share_before.startswith("0.0%")
     found_up = page.find_element(By.ID, "found-up").text
     assert len(found_up.split(",")) == 3
+    assert "file\u2019s coordinates" in page.find_element(By.ID, "found-up-note").text
+    # the oriented view opens seen from above
+    eye = camera_eye(page)
+    assert eye is not None and eye[2] == pytest.approx(1.8)
+    assert page.find_element(By.ID, "camera-occlusal").get_attribute("aria-pressed") == "true"
 
     slider = page.find_element(By.ID, "crop")
     top = float(slider.get_attribute("max"))
@@ -299,7 +312,22 @@ def test_crop_slider_recolours_the_view(page, shots):
     assert share == pytest.approx(100 * removed / len(after), abs=0.06)
     # the slider is the page's own: moving it asked the server nothing
     assert page.execute_script(previews) == previews_before
+    # the first crop turned the view to the side (the crop can be seen), without a redraw
+    wait(page, 10, "the side camera", lambda d: camera_eye(d)[2] != pytest.approx(1.8))
+    assert camera_eye(page)[2] == pytest.approx(0.7)
+    assert page.find_element(By.ID, "camera-side").get_attribute("aria-pressed") == "true"
+    assert vertex_colors(page) == after  # the same trace, only turned
     page.save_screenshot(str(shots / "2-crop.png"))
+    # the reader may turn it back; a second crop does not turn it again
+    click(page, page.find_element(By.ID, "camera-occlusal"))
+    wait(page, 10, "the occlusal camera again", lambda d: camera_eye(d)[2] == pytest.approx(1.8))
+    page.execute_script(
+        "const s = document.getElementById('crop');"
+        "s.value = String(Number(s.max) * 0.35);"
+        "s.dispatchEvent(new Event('input', {bubbles: true}));"
+    )
+    wait(page, 10, "the new colours", lambda d: vertex_colors(d) != after)
+    assert camera_eye(page)[2] == pytest.approx(1.8)
 
     # back to no crop: everything in the tooth colour again
     page.execute_script(
@@ -343,8 +371,24 @@ def test_apply_to_all_as_a_share_of_the_height_saves_a_fraction(page):
     protocol = wait(page, 30, "the folder's protocol", saved)
     assert protocol["crop_fraction"] == pytest.approx(0.75, abs=0.005)
     assert protocol["crop_below"] is None  # each crown cropped at its own height
-    api(page, "POST", "/api/protocol", {"scope": "all", "protocol": None})  # as it was
-    assert api(page, "GET", "/api/state")["protocol"] is None
+    # applying ticked "prepare before measuring" (the server keeps it), and the line above Run
+    # says what a run will do: the folder's protocol, by name, for every readable mesh
+    wait(
+        page, 10, "the box ticked", lambda d: d.find_element(By.ID, "prepare-before").is_selected()
+    )
+    assert api(page, "GET", "/api/state")["prepare"] is True
+    plan = page.find_element(By.ID, "run-plan").text
+    name = protocol["name"]
+    meshes = api(page, "GET", "/api/state")["meshes"]
+    folder_count = sum(1 for m in meshes if m["protocol"] == "folder")
+    assert folder_count == len(EXPECTED)
+    assert plan.startswith("Each mesh is prepared with its protocol first:"), plan
+    assert f"the folder\u2019s ({name}) for {folder_count}" in plan, plan
+    click(page, page.find_element(By.ID, "prepare-before"))  # unticked: as read
+    assert page.find_element(By.ID, "run-plan").text == "Meshes are measured as read."
+    api(page, "POST", "/api/protocol", {"scope": "all", "protocol": None, "prepare": False})
+    state = api(page, "GET", "/api/state")
+    assert state["protocol"] is None and state["prepare"] is False
     click(page, box)  # unticked again
     assert status(page, "errors") == ""
 
@@ -365,16 +409,18 @@ def relative(name, folder):
 
 
 def test_batch_rows_are_the_table_written(page, shots, folder):
-    # ariaDNE only, one job, measured as read
+    # ariaDNE and slope (the sphere and the saddle get an orientation warning), one job, as read
     page.execute_script(
         "for (const box of document.querySelectorAll('#metrics input'))"
-        "  box.checked = box.value === 'ariadne';"
+        "  box.checked = box.value === 'ariadne' || box.value === 'slope';"
         "document.getElementById('jobs').value = '1';"
         "document.getElementById('prepare-before').checked = false;"
     )
-    assert page.execute_script(
-        "return Array.from(document.querySelectorAll('#metrics input:checked'), b => b.value)"
-    ) == ["ariadne"]
+    assert sorted(
+        page.execute_script(
+            "return Array.from(document.querySelectorAll('#metrics input:checked'), b => b.value)"
+        )
+    ) == ["ariadne", "slope"]
     click(page, page.find_element(By.ID, "run"))
     wait(
         page,
@@ -441,9 +487,49 @@ def test_batch_rows_are_the_table_written(page, shots, folder):
                     math.isnan(x) and math.isnan(y)
                 ), (row["file"], column, a, b)
             else:
+                # the CSV puts an apostrophe before a text a spreadsheet would run ("'+z")
+                b = b[1:] if b and b.startswith("'") else b
                 assert (a or "") == (b or ""), (row["file"], column, a, b)
     # the file names in the table are text too
     assert page.execute_script("return document.querySelectorAll('#results b').length") == 0
+
+    # a row measured with warnings reads "ok, warned", its warnings below it (all in the title)
+    warned = [row for row in written if row["status"] == "ok" and row.get("warnings")]
+    assert {relative(row["file"], folder) for row in warned} & {"saddle.ply", "sub/sphere.ply"}
+    for row in warned:
+        file = relative(row["file"], folder)
+        cell = page.execute_script(
+            "const tr = Array.from(document.querySelectorAll('#results tbody tr'))"
+            "  .find(r => r.dataset.file === arguments[0]);"
+            "const td = tr.querySelector('td.status');"
+            "const w = td.querySelector('.cell-warnings');"
+            "return [td.firstChild.textContent, w ? w.textContent : null, w ? w.title : null]",
+            file,
+        )
+        assert cell == ["ok, warned", row["warnings"], row["warnings"]], (file, cell)
+        item = page.execute_script(
+            "const li = Array.from(document.querySelectorAll('#run-files li'))"
+            "  .find(l => l.dataset.path === arguments[0]);"
+            "return li ? [li.querySelector('.status').textContent, li.textContent] : null",
+            file,
+        )
+        assert item is not None and item[0] == "ok, warned" and row["warnings"] in item[1], item
+    unwarned = [row for row in written if row["status"] == "ok" and not row.get("warnings")]
+    for row in unwarned:
+        text = page.execute_script(
+            "const tr = Array.from(document.querySelectorAll('#results tbody tr'))"
+            "  .find(r => r.dataset.file === arguments[0]);"
+            "return tr.querySelector('td.status').textContent",
+            relative(row["file"], folder),
+        )
+        assert text == "ok"
+    # the seconds of each file: 2 significant digits, never "0.0 s"
+    times = page.execute_script(
+        "return Array.from(document.querySelectorAll('#run-files li .muted'), s => s.textContent)"
+    )
+    pattern = r" (< 0\.001|[0-9.]+(e[-+]?\d+)?) s"
+    assert times and all(re.fullmatch(pattern, t) for t in times), times
+    assert not any(t.strip() == "0.0 s" for t in times)
 
     # the filter hides what does not match
     page.execute_script(

@@ -134,6 +134,25 @@ function fixed3(v) {
   return (Math.abs(x) < 5e-4 ? 0 : x).toFixed(3);
 }
 
+/** Seconds to 2 significant digits ("0.012 s", "1.5 s", "12 s", "140 s"), never "0.0 s". */
+function seconds(value) {
+  const x = Number(value);
+  if (!Number.isFinite(x)) return "";
+  if (x <= 0) return "0 s";
+  if (x < 0.001) return "< 0.001 s";
+  return String(Number(x.toPrecision(2))) + " s";
+}
+
+/** The status as shown: "ok, warned" for a row measured with warnings. */
+function statusWords(status, warnings) {
+  return status === "ok" && warnings ? "ok, warned" : String(status);
+}
+
+/** The warnings, as text clamped to 3 lines (all of it in the title). */
+function warningsBlock(warnings) {
+  return el("div", { className: "cell-warnings", text: String(warnings), title: String(warnings) });
+}
+
 function formatNumber(value) {
   if (typeof value !== "number" || !Number.isFinite(value)) return String(value);
   if (Number.isInteger(value)) return String(value);
@@ -163,6 +182,8 @@ const app = {
   oriented: null,        // its oriented mesh, unpacked
   prepared: null,        // its prepared mesh, unpacked
   showing: "",           // "oriented" | "prepared"
+  cameras: { oriented: "occlusal", prepared: "occlusal" },  // each view's camera (CAMERAS)
+  sideShown: false,      // the oriented view turned to the side once for this mesh's crop
   previewSerial: 0,
   run: null,
   runTimer: null,
@@ -194,7 +215,7 @@ function drawHeader(state) {
   $("table-path").textContent = state.table || "";
   const label = state.protocol_label || (state.protocol ? state.protocol.name : null);
   $("protocol-summary").textContent = state.protocol
-    ? "Folder protocol: " + (label || "custom") + " (used for every mesh without its own)."
+    ? protocolWords(label || "custom", "Folder protocol") + " (used for every mesh without its own)."
     : "No folder protocol: the meshes are measured as read (unless a mesh has its own).";
 }
 
@@ -275,11 +296,15 @@ function fillCard(card, mesh) {
   const size = [humanBytes(mesh.bytes)];
   if (mesh.vertices !== null && mesh.vertices !== undefined) size.push(count(mesh.vertices) + " vertices");
   if (mesh.faces !== null && mesh.faces !== undefined) size.push(count(mesh.faces) + " faces");
+  // each part whole on its line ("· 5,000 faces" never split), the line may break between them
+  const sizeParts = size.filter(Boolean).map((text, i) => el("span", { text: (i ? "\u00b7 " : "") + text }));
+  const sizeLine = el("div", { className: "size" });
+  sizeParts.forEach((part, i) => { if (i) sizeLine.append(" "); sizeLine.append(part); });
   const name = mesh.group && mesh.path.startsWith(mesh.group + "/") ? mesh.path.slice(mesh.group.length + 1) : mesh.path;
   card.replaceChildren(
     thumb,
     el("div", { className: "name", text: name }),
-    el("div", { className: "size", text: size.join(" \u00b7 ") }),
+    sizeLine,
     ...(mesh.error ? [el("div", { className: "error", text: mesh.error })] : []),
     ...(mesh.protocol === "own" ? [el("span", { className: "badge", text: "own protocol" })] : []));
   card.classList.toggle("unreadable", Boolean(mesh.error));
@@ -468,11 +493,14 @@ async function selectMesh(path) {
     }
   }
   app.preview = null; app.oriented = null; app.prepared = null;
+  app.cameras = { oriented: "occlusal", prepared: "occlusal" };
+  app.sideShown = false;
   $("steps").hidden = true;
   $("steps-stale").hidden = true;
   $("preview-label").textContent = "";
   $("preview-warnings").replaceChildren();
   $("found-up").textContent = "";
+  $("found-up-note").hidden = true;
   if (mesh.error) {
     clearView("This mesh could not be read: " + mesh.error);
     return;
@@ -515,11 +543,14 @@ async function refreshPreview(show) {
   app.preview = answer; app.oriented = oriented; app.prepared = prepared;
   const up = answer.found_up;
   $("found-up").textContent = Array.isArray(up) ? up.map(fixed3).join(", ") : "\u2014";
+  $("found-up-note").hidden = !Array.isArray(up) || Boolean(protocol.up);
+  $("found-up-flipped").hidden = !(Array.isArray(up) && Number(up[2]) < -0.5);
   $("found-up-label").textContent = protocol.up ? "up used" : "found up";
   setupCrop(answer);
   drawSteps(answer);
   $("steps-stale").hidden = true;
-  $("preview-label").textContent = answer.label ? "Protocol: " + answer.label : "";
+  $("preview-label").textContent = answer.label
+    ? protocolWords(answer.label) + " (names its parameters exactly)" : "";
   const warnings = (answer.warnings || []).map((w) => el("li", { text: String(w) }));
   $("preview-warnings").replaceChildren(...warnings);
   await drawView(show);
@@ -605,22 +636,40 @@ function meshTrace(mesh, colors) {
   return trace;
 }
 
-const VIEW_LAYOUT = () => ({
+/** The view's cameras: from above the crown, and obliquely from the side (to see a crop). */
+const CAMERAS = {
+  occlusal: { eye: { x: 0, y: 0, z: 1.8 }, up: { x: 0, y: 1, z: 0 } },
+  side: { eye: { x: 1.3, y: -1.3, z: 0.7 }, up: { x: 0, y: 0, z: 1 } },
+};
+
+function camera(name) {
+  return JSON.parse(JSON.stringify(CAMERAS[name] || CAMERAS.occlusal));
+}
+
+const VIEW_LAYOUT = (cameraName) => ({
   margin: { l: 0, r: 0, t: 0, b: 0 },
   paper_bgcolor: "#ffffff",
   scene: {
     aspectmode: "data",
     xaxis: { visible: false }, yaxis: { visible: false }, zaxis: { visible: false },
-    camera: { eye: { x: 0, y: 0, z: 1.8 }, up: { x: 0, y: 1, z: 0 } },
+    camera: camera(cameraName),
   },
 });
+
+/** Turn the view shown to camera `name` (a relayout: the mesh is not drawn again). */
+async function setCamera(name) {
+  if (!CAMERAS[name]) return;
+  if (app.showing) app.cameras[app.showing] = name;
+  updateSwitch();
+  if (app.showing && $("view").data) await Plotly.relayout($("view"), { "scene.camera": camera(name) });
+}
 
 async function drawView(show) {
   const which = show === "prepared" ? "prepared" : "oriented";
   const mesh = which === "prepared" ? app.prepared : app.oriented;
   if (!mesh) return;
   const trace = which === "prepared" ? meshTrace(mesh, null) : meshTrace(mesh, cropColors().colors);
-  await Plotly.newPlot($("view"), [trace], VIEW_LAYOUT(), PLOT_CONFIG);
+  await Plotly.newPlot($("view"), [trace], VIEW_LAYOUT(app.cameras[which]), PLOT_CONFIG);
   app.showing = which;
   const n = mesh.xyz[0].length, m = mesh.ijk[0].length;
   const real = realFaces(which);
@@ -645,6 +694,13 @@ function updateSwitch() {
   $("show-prepared").classList.toggle("on", app.showing === "prepared");
   $("show-oriented").disabled = !app.oriented;
   $("show-prepared").disabled = !app.prepared;
+  const current = app.showing ? app.cameras[app.showing] : "";
+  for (const name of Object.keys(CAMERAS)) {
+    const button = $("camera-" + name);
+    button.classList.toggle("on", current === name);
+    button.setAttribute("aria-pressed", String(current === name));
+    button.disabled = !app.showing;
+  }
 }
 
 function drawSteps(answer) {
@@ -665,18 +721,30 @@ $("crop-as-share").addEventListener("change", () => {
 });
 
 let cropFrame = 0;
+let cropTurn = false;  // the next frame turns the oriented view to the side
 $("crop").addEventListener("input", () => {
   app.cropTouched = true;
   $("crop-note").hidden = true;
   $("steps-stale").hidden = !app.preview;
   updateCropText();
   if (!app.oriented) return;
+  // the first crop of a mesh turns the oriented view to the side, once (the reader may turn it back)
+  if (!app.sideShown && cropHeight() > 0) {
+    app.sideShown = true;
+    app.cameras.oriented = "side";
+    cropTurn = true;
+  }
   if (cropFrame) return;
   cropFrame = requestAnimationFrame(() => {
     cropFrame = 0;
-    const done = app.showing === "oriented"
-      ? Plotly.restyle($("view"), { vertexcolor: [cropColors().colors] }, [0])
-      : drawView("oriented");
+    let done;
+    if (app.showing === "oriented") {
+      done = Plotly.restyle($("view"), { vertexcolor: [cropColors().colors] }, [0]);
+      if (cropTurn) done = Promise.resolve(done).then(() => setCamera("side"));
+    } else {
+      done = drawView("oriented");
+    }
+    cropTurn = false;
     Promise.resolve(done).catch((error) => noteError(error));
   });
 });
@@ -702,14 +770,22 @@ $("up-found").addEventListener("click", guarded(async () => {
   ["up-x", "up-y", "up-z"].forEach((id) => { $(id).value = ""; });
   await refreshPreview("oriented");
 }));
-$("preview").addEventListener("click", guarded(() => refreshPreview("prepared")));
+$("preview").addEventListener("click", guarded(() => {
+  app.cameras.prepared = "occlusal";  // the prepared mesh opens seen from above
+  return refreshPreview("prepared");
+}));
 $("show-oriented").addEventListener("click", guarded(() => drawView("oriented")));
 $("show-prepared").addEventListener("click", guarded(() => drawView("prepared")));
+for (const name of Object.keys(CAMERAS)) {
+  $("camera-" + name).addEventListener("click", guarded(() => setCamera(name)));
+}
 
 async function saveProtocol(scope, protocol) {
   const body = { scope: scope, protocol: protocol };
   if (scope === "mesh") body.path = app.selected;
+  if (protocol !== null) body.prepare = true;  // a protocol just made is one to measure with
   const state = await postJSON("/api/protocol", body);
+  if (protocol !== null) $("prepare-before").checked = true;
   drawState(state);
   const where = scope === "all" ? "the folder (every mesh without its own)" : app.selected;
   showMessage(protocol === null ? "Removed the protocol of " + where + "." : "Saved the protocol for " + where + ".", true);
@@ -773,6 +849,50 @@ function drawMeasureChoices(state) {
     $("bandwidth").dataset.set = "1";
   }
 }
+
+/** Split a protocol label ("NAME DIGEST") into its name and digest. */
+function labelParts(label) {
+  const text = String(label || "");
+  const cut = text.lastIndexOf(" ");
+  if (cut < 0) return { name: text, digest: "" };
+  return { name: text.slice(0, cut), digest: text.slice(cut + 1) };
+}
+
+/** 'Protocol “NAME” · digest DIGEST': the name and the digest that names its parameters. */
+function protocolWords(label, lead) {
+  const { name, digest } = labelParts(label);
+  return (lead || "Protocol") + " \u201c" + name + "\u201d" + (digest ? " \u00b7 digest " + digest : "");
+}
+
+/** The line above Run: what a run will do with the meshes (as read, or prepared with what). */
+function drawRunPlan() {
+  const state = app.state;
+  const line = $("run-plan");
+  if (!state) { line.textContent = ""; return; }
+  if (!$("prepare-before").checked) {
+    line.textContent = "Meshes are measured as read.";
+    line.dataset.plan = "as-read";
+    return;
+  }
+  const meshes = state.meshes || [];
+  const folder = meshes.filter((m) => m.protocol === "folder").length;
+  const own = meshes.filter((m) => m.protocol === "own").length;
+  const none = meshes.length - folder - own;
+  if (!folder && !own) {
+    line.textContent = "Meshes are measured as read: no mesh has a protocol yet (Apply one above).";
+    line.dataset.plan = "as-read";
+    return;
+  }
+  const name = state.protocol ? labelParts(state.protocol_label || state.protocol.name).name : "";
+  const parts = [];
+  if (folder) parts.push("the folder\u2019s (" + (name || "custom") + ") for " + folder);
+  if (own) parts.push("their own for " + own);
+  let text = "Each mesh is prepared with its protocol first: " + parts.join(", ");
+  if (none) text += "; " + none + " without one " + (none === 1 ? "is" : "are") + " measured as read";
+  line.textContent = text + ".";
+  line.dataset.plan = "prepare";
+}
+$("prepare-before").addEventListener("change", drawRunPlan);
 
 function readNumber(id, name) {
   const value = Number($(id).value);
@@ -838,11 +958,15 @@ function drawRun(run) {
   $("run-state").textContent = text;
   $("run-command").textContent = run.command || "";
   const files = Object.entries(run.files || {});
-  $("run-files").replaceChildren(...files.map(([path, info]) => el("li", { "data-path": path },
-    el("span", { className: "status status-" + info.status, text: String(info.status) }), " ",
-    el("span", { text: path }),
-    info.seconds !== null && info.seconds !== undefined ? el("span", { className: "muted", text: " " + Number(info.seconds).toFixed(1) + " s" }) : null,
-    info.error ? el("span", { className: "error " + info.status, text: " \u2014 " + info.error }) : null)));
+  $("run-files").replaceChildren(...files.map(([path, info]) => {
+    const warned = info.status === "ok" && Boolean(info.warnings);
+    return el("li", { "data-path": path, "data-status": warned ? "warned" : info.status },
+      el("span", { className: "status status-" + (warned ? "warned" : info.status), text: statusWords(info.status, info.warnings) }), " ",
+      el("span", { text: path }),
+      info.seconds !== null && info.seconds !== undefined ? el("span", { className: "muted", text: " " + seconds(info.seconds) }) : null,
+      info.error ? el("span", { className: "error " + info.status, text: " \u2014 " + info.error }) : null,
+      info.warnings && info.status !== "error" ? warningsBlock(info.warnings) : null);
+  }));
   const log = $("log");
   const lines = (run.log || []).map(String).join("\n");
   if (log.textContent !== lines) {
@@ -899,7 +1023,7 @@ function groupOf(file) {
 function drawResults() {
   const results = app.results || { columns: [], rows: [] };
   const given = results.columns || [];
-  // the file, then its status, then the rest as the table has them
+  // the file, then its status, then the rest in the server's order (warnings, error, headlines...)
   const columns = given.filter((c) => c === "file").concat(given.filter((c) => c === "status"),
     given.filter((c) => c !== "file" && c !== "status"));
   const rows = results.rows || [];
@@ -935,8 +1059,10 @@ function drawResults() {
   }
   const body = ordered.map((row) => {
     const file = row.file !== undefined ? String(row.file) : "";
+    const warned = row.status === "ok" && Boolean(row.warnings);
     const tr = el("tr", { "data-file": file, "data-group": groupOf(file), "data-status": row.status });
     if (row.status === "error") tr.classList.add("row-error");
+    if (warned) tr.classList.add("row-warned");
     if (file && file === app.mapsFor) tr.classList.add("picked");
     for (const c of columns) {
       const v = row[c];
@@ -946,6 +1072,12 @@ function drawResults() {
         const button = el("button", { type: "button", className: "file", text: file, title: "show the maps" });
         button.addEventListener("click", () => showMaps(file));
         td = el("td", { "data-v": raw }, button);
+      } else if (c === "status" && warned) {
+        // "ok, warned", the warnings below it (data-v keeps the table's own value)
+        td = el("td", { "data-v": raw, className: "status status-warned" },
+          el("div", { text: statusWords(raw, row.warnings) }), warningsBlock(row.warnings));
+      } else if (c === "warnings" && raw) {
+        td = el("td", { "data-v": raw, className: "warnings-cell", text: raw, title: raw });
       } else {
         const kind = typeof v === "number" ? "num" : c === "status" ? "status status-" + raw : "";
         td = el("td", { "data-v": raw, className: kind, text: typeof v === "number" ? formatNumber(v) : raw });
@@ -1022,10 +1154,11 @@ async function loadMap(file, metric, label, img, caption, serial) {
     if (serial !== mapSerial) return;
     img.src = URL.createObjectURL(blob);
     img.hidden = false;
-    const link = el("a", { href: img.src, target: "_blank", rel: "noopener", title: "open full size" });
+    // the picture's own address: the full-size PNG (drawn already, so it is answered at once)
+    const link = el("a", { href: url, target: "_blank", rel: "noopener", title: "open the full-size picture", className: "map-link" });
     img.replaceWith(link);
     link.append(img);
-    caption.textContent = label;
+    caption.replaceChildren(label + " \u00b7 ", el("a", { href: url, target: "_blank", rel: "noopener", text: "full size" }));
     return;
   }
   throw new ApiError("gave up waiting for the picture");
@@ -1096,6 +1229,7 @@ function drawState(state) {
   drawMeshes(state);
   if (app.selected) drawSelectedHeader();
   drawMeasureChoices(state);
+  drawRunPlan();
   drawExport(state);
   if (state.run) {
     drawRun(state.run);
