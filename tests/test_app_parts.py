@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -78,3 +80,11 @@ def test_a_job_runs_its_commands_and_stops_at_a_usage_error(tmp_path):
     job.wait(120)
     assert job.codes == [0, 2] and job.state == "failed"
     assert any("no-such-option" in line for line in job.log)
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc, where nothing is created")
+def test_an_output_folder_that_cannot_be_made_is_named(tmp_path):
+    from dentopo.app import Workspace
+
+    with pytest.raises(AppError, match="cannot write into the output folder /proc/"):
+        Workspace(str(tmp_path), "/proc/dentopo-app-output")

@@ -194,10 +194,16 @@ class Workspace:
         if not os.path.isdir(self.root):
             raise AppError(f"not a folder: {root}")
         self.output = os.path.realpath(output or os.path.join(self.root, OUTPUT_NAME))
-        os.makedirs(os.path.join(self.output, ".app"), exist_ok=True)
-        mark = os.path.join(self.output, OUTPUT_FOLDER_MARK)
-        if not os.path.exists(mark):  # dentopo FOLDER then skips it: prepared copies are no scans
-            atomic_write(mark, lambda s: s.write(_MARK_TEXT))
+        try:
+            os.makedirs(os.path.join(self.output, ".app"), exist_ok=True)
+            mark = os.path.join(self.output, OUTPUT_FOLDER_MARK)
+            if not os.path.exists(mark):  # dentopo FOLDER skips it: prepared copies are no scans
+                atomic_write(mark, lambda s: s.write(_MARK_TEXT))
+        except OSError as exc:
+            raise AppError(
+                f"cannot write into the output folder {self.output}: {exc.strerror or exc} "
+                "(choose another with --output)"
+            ) from None
         self.folder = Folder(self.root, self.output)
         self.table = os.path.join(self.output, TABLE)
         self._lock = threading.Lock()
