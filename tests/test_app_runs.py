@@ -213,3 +213,20 @@ def test_cancel_stops_the_run_and_leaves_no_half_file(tmp_path):
             assert all(r["status"] in ("ok", "error") for r in read_table(output / "results.csv"))
     finally:
         running.stop()
+
+
+def test_a_mesh_copied_into_the_folder_appears_and_a_removed_one_goes(tmp_path):
+    folder = make_folder(tmp_path)
+    running = start(folder)
+    try:
+        running.wait_idle()
+        (folder / "group-a" / "copy.ply").write_bytes((folder / "tooth.ply").read_bytes())
+        (folder / "sphere.ply").unlink()
+
+        def listed():
+            paths = {m["path"] for m in running.json("GET", "/api/state")["meshes"]}
+            return paths if "group-a/copy.ply" in paths and "sphere.ply" not in paths else None
+
+        assert wait_for(listed, seconds=30) == (set(FILES) - {"sphere.ply"}) | {"group-a/copy.ply"}
+    finally:
+        running.stop()
