@@ -158,6 +158,15 @@ def test_every_response_has_the_policy_and_no_sniffing(server):
         assert headers["referrer-policy"] == "no-referrer"
 
 
+def test_only_the_assets_may_be_kept_by_the_browser(server):
+    for path in ("/", "/api/state", "/api/results"):
+        assert server.request("GET", path)[1]["cache-control"] == "no-store"
+    _, headers, _ = server.request("GET", "/static/app.js")
+    assert headers["cache-control"].startswith("private")
+    _, headers, _ = server.request("GET", "/static/app.js", token=False)
+    assert headers["cache-control"] == "no-store"  # a refusal is never kept
+
+
 def test_the_page_and_its_scripts_name_no_other_site(server):
     for path in ("/", "/static/app.js", "/static/app.css", "/static/viewer.js"):
         status, _, body = server.request("GET", path)

@@ -34,6 +34,12 @@ ASSETS = {
 }
 
 
+JS = "text/javascript; charset=utf-8"
+#: The page's assets may be kept by the browser for a while (plotly.js is 4.8 MB); the rest of
+#: the app's answers are never stored (Guard's ``no-store``).
+CACHED = {"cache-control": "private, max-age=600"}
+
+
 def _static(name: str) -> bytes:
     return resources.files("dentopo.app").joinpath("static", name).read_bytes()
 
@@ -85,15 +91,15 @@ def build_app(
         if name == "plotly.min.js":
             from plotly.offline import get_plotlyjs
 
-            return Response(get_plotlyjs(), media_type="text/javascript; charset=utf-8")
+            return Response(get_plotlyjs(), media_type=JS, headers=CACHED)
         if name == "viewer.js":
             from ..report import UNPACK_JS
 
-            return Response(UNPACK_JS, media_type="text/javascript; charset=utf-8")
+            return Response(UNPACK_JS, media_type=JS, headers=CACHED)
         if name not in ASSETS:
             return _error("no such file", 404)
         file, mime = ASSETS[name]
-        return Response(_static(file), media_type=mime)
+        return Response(_static(file), media_type=mime, headers=CACHED)
 
     async def state(request: Request):
         return JSONResponse(await run_in_threadpool(workspace.state))
