@@ -57,7 +57,8 @@ class MeshEntry:
     thumbnail: str | None = None  # the cached picture, once drawn
     inspected: bool = False
 
-    def to_dict(self) -> dict:
+    def to_json(self) -> dict:
+        """What the page is told of it (the real path stays in the server)."""
         return {
             "path": self.path,
             "group": self.group,

@@ -166,7 +166,8 @@ class RunOptions:
             self.method,
         ]
 
-    def to_dict(self) -> dict:
+    def to_json(self) -> dict:
+        """The options as the page and ``.app/run.json`` hold them."""
         return {**self.__dict__, "metrics": list(self.metrics)}
 
 
@@ -298,7 +299,7 @@ class Workspace:
         folder_protocol = self.folder_protocol()
         meshes = []
         for entry in self.folder.entries():
-            item = entry.to_dict()
+            item = entry.to_json()
             own = os.path.exists(self.own_protocol_file(entry.path))
             item["protocol"] = "own" if own else ("folder" if folder_protocol else None)
             meshes.append(item)
@@ -326,8 +327,8 @@ class Workspace:
                 "maps": list(MAPS),
                 "exports": list(EXPORTS),
             },
-            "defaults": {**RunOptions().to_dict(), "jobs": max(1, available_cores() - 1)},
-            "last_run": self.last_options().to_dict(),
+            "defaults": {**RunOptions().to_json(), "jobs": max(1, available_cores() - 1)},
+            "last_run": self.last_options().to_json(),
             "run": self.run_state(),
             "results": os.path.exists(self.table),
             "report": os.path.exists(self._out("report.html")),
@@ -410,7 +411,7 @@ class Workspace:
                 if path is not None:
                     arguments += ["--prepare", path]
                 commands.append([*arguments, "--", *group])  # a name is never an option
-            text = json.dumps(options.to_dict())
+            text = json.dumps(options.to_json())
             atomic_write(self._out(".app", "run.json"), lambda s: s.write(text))
             self.set_prepares(options.prepare)
             self.run_files = files

@@ -280,7 +280,7 @@ def row_protocols(specimens: Sequence[Specimen], prepare=None) -> dict[str, Prot
         if not any(_short_digest(x) == protocol.digest[:12] for x in labels):
             held = ", ".join(repr(x) for x in labels) or "none (measured as read)"
             raise ProtocolError(
-                f"the protocol given ({protocol.label!r}) is not one the table's rows were "
+                f"the protocol given ({protocol.label!r}) is not the one the table's rows were "
                 f"prepared with: theirs are {held}"
             )
     candidates = given + list(named_protocols().values())
