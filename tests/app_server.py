@@ -12,6 +12,7 @@ import subprocess
 import sys
 import threading
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -110,6 +111,17 @@ class Server:
         for stream in (self.process.stdout, self.process.stderr):
             stream.close()
         return self.process.returncode
+
+
+@contextmanager
+def serving(folder, *arguments: str):
+    """A started server whose folder is read (:func:`start`), stopped at the end."""
+    running = start(folder, *arguments)
+    try:
+        running.wait_idle()
+        yield running
+    finally:
+        running.stop()
 
 
 def start(folder, *arguments: str) -> Server:

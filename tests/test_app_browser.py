@@ -17,17 +17,13 @@ import io
 import json
 import math
 import os
-import queue
 import re
 import shutil
-import subprocess
-import sys
-import threading
-import time
 from pathlib import Path
 
 import pytest
 
+from app_server import start
 from dentopo.samples import sample_paths
 
 CHROMEDRIVER = "/usr/bin/chromedriver"
@@ -77,54 +73,11 @@ def server(folder):
     reason = _missing_browser()
     if reason:
         pytest.skip(reason)
-    command = [sys.executable, "-m", "dentopo", "app", str(folder), "--no-browser", "--port", "0"]
-    process = subprocess.Popen(
-        command,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        cwd=str(folder),
-    )
-    lines: queue.Queue = queue.Queue()
-    seen: list[str] = []
-
-    def read():
-        for line in process.stdout:
-            lines.put(line)
-        lines.put(None)
-
-    reader = threading.Thread(target=read, daemon=True)
-    reader.start()
-    url = None
-    deadline = time.monotonic() + 60
+    running = start(folder)  # not waited for: the page shows the meshes being read
     try:
-        while url is None:
-            line = lines.get(timeout=max(0.1, deadline - time.monotonic()))
-            if line is None:
-                break
-            seen.append(line)
-            found = re.search(r"http://\S+", line)
-            if found:
-                url = found.group(0)
-    except queue.Empty:
-        pass
-    if url is None:
-        process.kill()
-        process.wait(timeout=10)
-        reader.join(timeout=10)
-        process.stdout.close()
-        pytest.fail("dentopo app printed no address within 60 s:\n" + "".join(seen))
-    try:
-        yield url
+        yield running.url
     finally:
-        process.terminate()
-        try:
-            process.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=10)
-        reader.join(timeout=10)
-        process.stdout.close()
+        running.stop()
 
 
 @pytest.fixture(scope="module")

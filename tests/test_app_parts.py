@@ -88,3 +88,28 @@ def test_an_output_folder_that_cannot_be_made_is_named(tmp_path):
 
     with pytest.raises(AppError, match="cannot write into the output folder /proc/"):
         Workspace(str(tmp_path), "/proc/dentopo-app-output")
+
+
+@pytest.mark.parametrize(
+    "changes",
+    [
+        {"faces": 3000, "crop_below": 0.5, "smooth": "taubin"},
+        {"spin": "footprint", "up": (0.0, 1.0, 0.0), "crop_fraction": 0.5, "smooth": "implicit"},
+        {"keep": "all", "faces": 900, "clean": False},
+        {"orient": "none", "crop_fraction": 0.7},
+    ],
+)
+def test_the_preview_in_two_is_the_preparation_to_the_bit(changes):
+    from conftest import shared_mesh
+    from dentopo.app._workspace import prepared_in_two
+    from dentopo.mesh import load_mesh
+    from dentopo.prepare import Protocol, prepare
+
+    mesh = load_mesh(shared_mesh("low_hole" if changes.get("keep") else "normal"))
+    protocol = Protocol(**changes)
+    whole = prepare(mesh, protocol)
+    oriented, rest = prepared_in_two(mesh, protocol)
+    assert np.array_equal(rest.vertices, whole.vertices)
+    assert np.array_equal(rest.faces, whole.faces)
+    names = [s.name for s in (*oriented.steps, *rest.steps)]
+    assert names == [s.name for s in whole.steps]

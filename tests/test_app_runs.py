@@ -17,7 +17,7 @@ import zipfile
 
 import pytest
 
-from app_server import HOSTILE, make_folder, start
+from app_server import HOSTILE, make_folder, serving, start
 from dentopo.formats import read_table
 
 pytest.importorskip("starlette")
@@ -39,10 +39,8 @@ def folder(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def server(folder):
-    running = start(folder)
-    running.wait_idle()
-    yield running
-    running.stop()
+    with serving(folder) as running:
+        yield running
 
 
 def wait_for(check, seconds=180, step=0.3):
@@ -186,22 +184,16 @@ def test_a_killed_server_loses_no_row_and_reopening_shows_them(tmp_path):
     table = folder / "dentopo-app" / "results.csv"
     wait_for(table.exists, seconds=240)  # the command, in its own session, finishes its rows
     wait_for(lambda: not (folder / "dentopo-app" / ".results.csv.lock").exists(), seconds=60)
-    again = start(folder)
-    try:
-        state = again.wait_idle()
-        assert state["results"] is True
+    with serving(folder) as again:
+        assert again.json("GET", "/api/state")["results"] is True
         rows = again.json("GET", "/api/results")["rows"]
         assert [r["file"] for r in rows] == sorted(FILES)
         assert sum(r["status"] == "ok" for r in rows) == len(FILES) - 1
-    finally:
-        again.stop()
 
 
 def test_cancel_stops_the_run_and_leaves_no_half_file(tmp_path):
     folder = make_folder(tmp_path)
-    running = start(folder)
-    try:
-        running.wait_idle()
+    with serving(folder) as running:
         running.json("POST", "/api/run", {"metrics": ["all"], "jobs": 1})
         run = running.json("POST", "/api/run/cancel", {})
         assert run["state"] in ("cancelling", "cancelled")
@@ -211,15 +203,11 @@ def test_cancel_stops_the_run_and_leaves_no_half_file(tmp_path):
         assert not [p for p in os.listdir(output) if p.endswith(".tmp")]
         if (output / "results.csv").exists():
             assert all(r["status"] in ("ok", "error") for r in read_table(output / "results.csv"))
-    finally:
-        running.stop()
 
 
 def test_a_mesh_copied_into_the_folder_appears_and_a_removed_one_goes(tmp_path):
     folder = make_folder(tmp_path)
-    running = start(folder)
-    try:
-        running.wait_idle()
+    with serving(folder) as running:
         (folder / "group-a" / "copy.ply").write_bytes((folder / "tooth.ply").read_bytes())
         (folder / "sphere.ply").unlink()
 
@@ -228,5 +216,3 @@ def test_a_mesh_copied_into_the_folder_appears_and_a_removed_one_goes(tmp_path):
             return paths if "group-a/copy.ply" in paths and "sphere.ply" not in paths else None
 
         assert wait_for(listed, seconds=30) == (set(FILES) - {"sphere.ply"}) | {"group-a/copy.ply"}
-    finally:
-        running.stop()

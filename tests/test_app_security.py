@@ -14,7 +14,7 @@ import urllib.parse
 
 import pytest
 
-from app_server import HOSTILE, make_folder, start
+from app_server import HOSTILE, make_folder, serving
 from dentopo.app import PathRefusedError, inside
 
 pytest.importorskip("starlette")
@@ -39,10 +39,8 @@ def study(tmp_path_factory):
 @pytest.fixture(scope="module")
 def server(study):
     folder, _ = study
-    running = start(folder)
-    running.wait_idle()
-    yield running
-    running.stop()
+    with serving(folder) as running:
+        yield running
 
 
 def test_the_address_is_the_loopback_with_a_long_secret(server):
@@ -308,8 +306,7 @@ def test_inside_follows_symlinks(tmp_path):
 
 def test_every_interface_warns_and_still_refuses_foreign_names(study):
     folder, _ = study
-    running = start(folder, "--host", "0.0.0.0")
-    try:
+    with serving(folder, "--host", "0.0.0.0") as running:
         for host in ("127.0.0.1", "192.0.2.7", "[2001:db8::1]", socket.gethostname()):
             status, _, _ = running.request("GET", "/api/state", host=f"{host}:{running.port}")
             assert status == 200, host  # any address of this computer's, or its name
@@ -319,5 +316,3 @@ def test_every_interface_warns_and_still_refuses_foreign_names(study):
         while time.monotonic() < deadline and not running.errors:
             time.sleep(0.1)
         assert any("warning" in line and "0.0.0.0" in line for line in running.errors)
-    finally:
-        running.stop()

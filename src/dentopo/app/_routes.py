@@ -105,7 +105,7 @@ def build_app(
         return JSONResponse(await run_in_threadpool(workspace.state))
 
     async def thumbnail(request: Request):
-        entry = workspace._entry(request.query_params.get("path"))
+        entry = workspace.mesh(request.query_params.get("path"))
         if entry.thumbnail is None:
             return _error("no thumbnail (yet)", 404)
         return FileResponse(entry.thumbnail, media_type="image/png")
@@ -135,7 +135,7 @@ def build_app(
         if relative is None:
             path, name = workspace.protocol_file, "protocol.toml"
         else:
-            workspace._entry(relative)
+            workspace.mesh(relative)
             path = workspace.protocol_for(relative)[1]
             name = os.path.basename(relative) + ".toml"
         if path is None or not os.path.exists(path):

@@ -161,18 +161,18 @@ class Guard:
                 return
             await self.app(scope, receive, send)
             return
-        problem = self._problem(scope)
+        query = parse_qs(scope.get("query_string", b"").decode("latin-1"))
+        problem = self._problem(scope, query)
         if problem is not None:
             status, message = problem
             await _refuse(send, status, message)
             return
-        query = parse_qs(scope.get("query_string", b"").decode("latin-1"))
         if scope["method"] == "GET" and scope["path"] == "/" and "token" in query:
             await _enter(send, cookie_name(self.port), self.token)
             return
         await self.app(scope, receive, _with_headers(send, scope["path"]))
 
-    def _problem(self, scope) -> tuple[int, str] | None:
+    def _problem(self, scope, query: dict) -> tuple[int, str] | None:
         host = _header(scope, b"host")
         if host is None:
             return 400, "the request names no Host"
@@ -180,7 +180,7 @@ class Guard:
         known = name.lower() in (*LOOPBACK, *self.hosts) or (self.any_address and _is_ip(name))
         if not known or (self.port and port != self.port):
             return 403, f"refused: Host {host!r} is not this app's address"
-        given = self._given_token(scope)
+        given = self._given_token(scope, query)
         if given is None:
             return 401, "this app needs its secret: open the address that dentopo app printed"
         if not hmac.compare_digest(given.encode("utf-8", "replace"), self.token.encode()):
@@ -199,11 +199,10 @@ class Guard:
                 return 403, f"refused: a change from another site (Sec-Fetch-Site {site})"
         return None
 
-    def _given_token(self, scope) -> str | None:
+    def _given_token(self, scope, query: dict) -> str | None:
         header = _header(scope, TOKEN_HEADER.encode())
         if header is not None:
             return header
-        query = parse_qs(scope.get("query_string", b"").decode("latin-1"))
         if "token" in query:
             return query["token"][-1]
         cookie = _header(scope, b"cookie")
