@@ -1,4 +1,4 @@
-"""Ctrl-C while numba compiles a kernel: held until the compilation ends, then raised.
+"""Ctrl-C while numba compiles or loads a kernel: held until numba's compiler lock is released.
 
 Python runs a signal's handler in the first Python code it reaches.  While
 LLVM compiles, that is llvmlite's object-cache callback, a ctypes callback,
@@ -9,6 +9,10 @@ callback that sends SIGINT, as LLVM's callback does when a Ctrl-C arrives
 while it compiles.  Without the hold that importing ``dentopo._jit``
 registers, the interrupt is lost and the call returns; with it, it is raised
 once the kernel is compiled.
+
+The hold covers the whole of numba's compiler lock: loading a kernel from the
+cache (llvmlite hands modules to the execution engine in two steps, which an
+interrupt between them leaves freed twice) and saving it to the cache too.
 """
 
 from __future__ import annotations
@@ -98,12 +102,49 @@ def test_the_control_without_the_hold_the_ctrl_c_is_lost(monkeypatch):
     ignored = []
     monkeypatch.setattr(sys, "unraisablehook", ignored.append)  # "Exception ignored ..."
     kernel = numba.njit(_add_one)
-    event.unregister("numba:compile", _jit._HOLD)  # the hold listens to every compilation
+    event.unregister(_jit.HELD_DURING, _jit._HOLD)  # the hold listens to every compilation
     try:
         listener = _InterruptInACallback()
         with event.install_listener("numba:compile", listener):
             assert kernel(1) == 2
     finally:
-        event.register("numba:compile", _jit._HOLD)
+        event.register(_jit.HELD_DURING, _jit._HOLD)
     assert listener.sent == 1
     assert [type(u.exc_value) for u in ignored] == [KeyboardInterrupt]
+
+
+def _interrupting(function, calls):
+    """`function`, which first sends SIGINT and runs Python code (where the handler runs)."""
+
+    def wrapped(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)
+        sum(range(1000))
+        calls.append(function.__name__)
+        return function(*args, **kwargs)
+
+    return wrapped
+
+
+def test_a_ctrl_c_while_a_kernel_is_looked_up_in_the_cache_is_raised_once_it_is_ready():
+    # numba looks in its cache before compiling and loads from it there: a Ctrl-C then used to
+    # be raised inside numba's (and llvmlite's) Python code
+    kernel = _jit.njit(_add_one)
+    calls = []
+    kernel._cache.load_overload = _interrupting(kernel._cache.load_overload, calls)
+    with pytest.raises(KeyboardInterrupt):
+        kernel(1)
+    assert calls == ["load_overload"]
+    assert len(kernel.signatures) == 1 and kernel(1) == 2
+    assert _jit._HOLD.depth == 0 and not _jit._HOLD.caught
+
+
+def test_an_interrupted_compilation_is_still_saved_to_the_cache():
+    # held to the lock's release, not to the compilation's end: the next run loads the kernel
+    kernel = _jit.njit(_add_one)
+    saved = []
+    real_save = kernel._cache.save_overload
+    kernel._cache.save_overload = lambda sig, cres: (saved.append(sig), real_save(sig, cres))
+    listener = _InterruptInACallback()
+    with event.install_listener("numba:compile", listener), pytest.raises(KeyboardInterrupt):
+        kernel(1)
+    assert listener.sent == 1 and len(saved) == 1

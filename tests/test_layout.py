@@ -59,7 +59,13 @@ ALLOWED = {
 SUBPACKAGES = set(ALLOWED)
 
 #: Top-level private modules every module may import; they import nothing of dentopo.
-PRIVATE = {"dentopo._version", "dentopo._optional", "dentopo._jit", "dentopo._html_repr"}
+PRIVATE = {
+    "dentopo._version",
+    "dentopo._optional",
+    "dentopo._jit",
+    "dentopo._html_repr",
+    "dentopo._signals",
+}
 
 #: Public modules at the top level (``dentopo.NAME``) -> the subpackages they may import.  Each
 #: sits beside the public API, above nothing: no subpackage may import it.

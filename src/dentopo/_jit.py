@@ -1,25 +1,38 @@
-"""numba's ``njit`` and ``prange`` for dentopo's kernels, with Ctrl-C held while numba compiles.
+"""numba's ``njit`` and ``prange``, with Ctrl-C held where numba cannot take it.
 
 A kernel is compiled on its first call (on a fresh install; later calls load
-numba's cache).  A Ctrl-C that arrives while LLVM compiles is lost: Python runs
-the signal's handler in the first Python code it reaches, which is llvmlite's
-object-cache callback, and an exception raised in a ctypes callback is printed
-as "Exception ignored" and dropped; the computation then runs to its end.
+numba's cache).  Python runs a signal's handler in the first Python code it
+reaches, and two places of numba's are not safe for a ``KeyboardInterrupt``:
 
-While a kernel compiles, this module therefore gives SIGINT and SIGTERM a
-handler that only records them (where Python handlers are installed, in the
-main thread), and hands a recorded signal to the handler that was installed
-before as the compilation ends: Python's ``KeyboardInterrupt``, or the batch
-runner's guard.  A Ctrl-C during a compilation is thus raised when that kernel
-is compiled (a few seconds at most), not lost.
+* While LLVM compiles, that code is llvmlite's object-cache callback, and an
+  exception raised in a ctypes callback is printed as "Exception ignored" and
+  dropped: the Ctrl-C was lost and the computation ran to its end.
+* While numba loads a kernel from its cache or links one, the code is
+  llvmlite's, which hands each LLVM module to the execution engine in two
+  steps (the engine takes it, then the module is marked as owned); an
+  interrupt between them leaves a module that both free (glibc: "double free
+  detected" as the process exits).  An interrupted compilation was also never
+  written to the cache, so that the next run compiled it again.
 
-The hold listens to numba's compile events (``numba.core.event``), so it covers
-every compilation in the process, a kernel's callees too.
+While numba holds its compiler lock (``numba.core.event``'s
+``numba:compiler_lock``: compiling, loading from the cache, linking, saving to
+the cache), this module therefore gives SIGINT and SIGTERM a handler that only
+records them (where Python handlers are installed, in the main thread), and
+hands a recorded signal to the handler that was installed before as the lock
+is released: Python's ``KeyboardInterrupt``, or the batch runner's guard.  A
+Ctrl-C during a compilation is thus raised when that kernel is compiled and
+cached (a few seconds at most), not lost.  The hold listens to numba's events,
+so it covers every compilation in the process, a kernel's callees too.
 
-The same events are timed: :func:`compile_seconds` is how long the calling
-thread has spent compiling so far (numba raises the event only when a kernel is
-really compiled, not when it is loaded from the cache), so that a batch row's
-``seconds`` can leave the compilation out.
+A third place is anywhere: llvmlite's objects free their LLVM resources in
+a ``__del__``, whenever the garbage collector runs, and an exception raised
+there is dropped too; :mod:`dentopo._signals` sends such a signal again a
+moment later.
+
+The compilations are timed too: :func:`compile_seconds` is how long the
+calling thread has spent compiling so far (numba raises the event only when a
+kernel is really compiled, not when it is loaded from the cache), so that a
+batch row's ``seconds`` can leave the compilation out.
 
 May import: nothing of dentopo (every subpackage may import it).
 """
@@ -48,12 +61,16 @@ __all__ = ["compile_seconds", "njit", "prange"]
 #: The signals held while numba compiles.
 HELD = (signal.SIGINT, signal.SIGTERM)
 
+#: The numba event during which they are held: numba's compiler lock, taken to compile a
+#: kernel, to load it from the cache or link it, and to save it to the cache.
+HELD_DURING = "numba:compiler_lock"
+
 
 class _HoldSignals(event.Listener):
-    """Records `HELD` signals from the start of a compilation to its end, then hands them on."""
+    """Records `HELD` signals while numba holds its compiler lock, then hands them on."""
 
     def __init__(self):
-        self.depth = 0  # nested compilations (a kernel's callees) in the main thread
+        self.depth = 0  # nested holds of the lock (a kernel's callees) in the main thread
         self.previous: dict[int, object] = {}
         self.caught: list[int] = []
 
@@ -89,7 +106,7 @@ class _HoldSignals(event.Listener):
 
 #: Registered as this module is imported: every kernel module takes ``njit`` from here.
 _HOLD = _HoldSignals()
-event.register("numba:compile", _HOLD)
+event.register(HELD_DURING, _HOLD)
 
 
 class _CompileClock(event.Listener):

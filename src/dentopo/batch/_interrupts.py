@@ -15,7 +15,9 @@ kernel runs in slices of a few tenths of a second, so it is raised promptly.
 
 Raising at once is prompt (a Ctrl-C while a large file is read stops the
 reading), but third-party code that catches every exception can swallow it:
-trimesh's loader turns it into "string is not a file".  The guard remembers
+trimesh's loader turns it into "string is not a file".  A signal that arrives
+in a finalizer (a ``__del__``, where an exception is dropped) is sent again a
+moment later (see :mod:`dentopo._signals`).  The guard remembers
 what it raised (:attr:`InterruptGuard.raised`), so that the runner can tell
 that a mesh was interrupted although it came back, and raise again instead of
 keeping a row that cannot be trusted.
@@ -27,6 +29,8 @@ import contextlib
 import signal
 import threading
 from collections.abc import Iterator
+
+from .._signals import deliver_later, in_finalizer
 
 
 class Interrupted(KeyboardInterrupt):
@@ -64,13 +68,22 @@ class InterruptGuard:
         self.raised: int | None = None  # the last signal raised (see check)
         self.active = False
         self._held = 0
+        self._later = 0  # signals deliver_later will send again
         self._previous: dict[int, object] = {}
 
     def _handler(self, signum, frame) -> None:
-        if self.pending is None:
+        if self._later:  # sent again by deliver_later (or a second Ctrl-C at that moment)
+            self._later -= 1
+            if self.pending is None:
+                return  # raised meanwhile by check() at a safe point
+        elif self.pending is None:
             self.pending = signum
         if self._held:
             return  # raised by check() as the critical section ends
+        if in_finalizer(frame):  # raised in a __del__, it would be dropped: a moment later
+            self._later += 1
+            deliver_later(signum)
+            return
         self.check()
 
     def install(self) -> None:

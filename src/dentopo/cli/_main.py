@@ -7,11 +7,15 @@ anything else is the main command (:mod:`dentopo.cli._compute`).
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import signal
 import sys
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
 
 from .._optional import MissingExtraError
+from .._signals import interrupt
 from .._version import __version__
 from ._progress import PROG, say
 from ._streams import (
@@ -53,7 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     forget_stderr_failure()
-    with guarded_stdout():
+    with guarded_stdout(), _interrupt_outside_finalizers():
         try:
             code = _main(argv)
         except StreamError as exc:
@@ -63,6 +67,26 @@ def main(argv: list[str] | None = None) -> int:
     if stderr_failed():
         code = max(code, 1)
     return code
+
+
+@contextlib.contextmanager
+def _interrupt_outside_finalizers() -> Iterator[None]:
+    """Ctrl-C raises ``KeyboardInterrupt`` as usual, but not inside a ``__del__`` (see `interrupt`).
+
+    Only where Python's own handler is installed (not where SIGINT is ignored,
+    as under ``nohup``, or handled by the caller) and in the main thread.
+    """
+    if (
+        threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    ):
+        yield
+        return
+    signal.signal(signal.SIGINT, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def _main(argv: list[str]) -> int:
