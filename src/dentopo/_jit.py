@@ -10,8 +10,10 @@ reaches, and two places of numba's are not safe for a ``KeyboardInterrupt``:
 * While numba loads a kernel from its cache or links one, the code is
   llvmlite's, which hands each LLVM module to the execution engine in two
   steps (the engine takes it, then the module is marked as owned); an
-  interrupt between them leaves a module that both free (glibc: "double free
-  detected" as the process exits).  An interrupted compilation was also never
+  interrupt between them leaves a module that the garbage collector frees
+  while the engine still holds it (a later kernel aborts inside LLVM; a
+  "double free detected" as a process exited after a Ctrl-C was probably
+  this).  An interrupted compilation was also never
   written to the cache, so that the next run compiled it again.
 
 While numba holds its compiler lock (``numba.core.event``'s
