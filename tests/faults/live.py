@@ -47,6 +47,7 @@ def environment(**variables: str) -> dict:
     """The harness's environment, with the test hooks importable and `variables` set."""
     env = _environment()
     env["PYTHONPATH"] = os.pathsep.join([str(HOOKS), env["PYTHONPATH"]])
+    env["PYTHONFAULTHANDLER"] = "1"  # a crash prints every thread's Python stack in the report
     env.update(variables)
     return env
 
