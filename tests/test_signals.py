@@ -112,28 +112,25 @@ def test_the_guard_drops_a_signal_sent_again_after_a_safe_point_raised_it(droppe
         assert guard._later == 0 and guard.pending is None
 
 
-def test_the_command_line_installs_interrupt_while_it_runs_and_restores_the_handler(handler):
+def _sigint_handler_while_the_command_runs():
+    """The SIGINT handler that a subcommand of the command line sees as it runs."""
     from dentopo.cli import _main
 
-    handler(signal.default_int_handler)
     seen = []
     _main.SUBCOMMANDS["_probe"] = lambda argv: seen.append(signal.getsignal(signal.SIGINT)) or 0
     try:
         assert _main.main(["_probe"]) == 0
     finally:
         del _main.SUBCOMMANDS["_probe"]
-    assert seen == [_signals.interrupt]
+    return seen[0]
+
+
+def test_the_command_line_installs_interrupt_while_it_runs_and_restores_the_handler(handler):
+    handler(signal.default_int_handler)
+    assert _sigint_handler_while_the_command_runs() is _signals.interrupt
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 def test_the_command_line_leaves_an_ignored_sigint_ignored(handler):
-    from dentopo.cli import _main
-
     handler(signal.SIG_IGN)  # started under nohup, or in the background
-    seen = []
-    _main.SUBCOMMANDS["_probe"] = lambda argv: seen.append(signal.getsignal(signal.SIGINT)) or 0
-    try:
-        assert _main.main(["_probe"]) == 0
-    finally:
-        del _main.SUBCOMMANDS["_probe"]
-    assert seen == [signal.SIG_IGN]
+    assert _sigint_handler_while_the_command_runs() is signal.SIG_IGN

@@ -13,8 +13,8 @@ reaches, and two places of numba's are not safe for a ``KeyboardInterrupt``:
   interrupt between them leaves a module that the garbage collector frees
   while the engine still holds it (a later kernel aborts inside LLVM; a
   "double free detected" as a process exited after a Ctrl-C was probably
-  this).  An interrupted compilation was also never
-  written to the cache, so that the next run compiled it again.
+  this).  An interrupted compilation was also never written to the cache,
+  so that the next run compiled it again.
 
 While numba holds its compiler lock (``numba.core.event``'s
 ``numba:compiler_lock``: compiling, loading from the cache, linking, saving to

@@ -174,11 +174,18 @@ def build_app(
             return JSONResponse({"state": "drawing"}, status_code=202)
         return FileResponse(found, media_type="image/png")
 
-    async def report(request: Request):
-        if request.method == "POST":
-            await _json_body(request)
-            return JSONResponse(await run_in_threadpool(workspace.start_report))
-        return JSONResponse(workspace.report_state())
+    def started(start, state):
+        """An endpoint whose POST starts a job (`start`) and whose GET says how it goes."""
+
+        async def endpoint(request: Request):
+            if request.method == "POST":
+                await _json_body(request)  # unused, but checked like every body (JSON, small)
+                return JSONResponse(await run_in_threadpool(start))
+            return JSONResponse(state())
+
+        return endpoint
+
+    report = started(workspace.start_report, workspace.report_state)
 
     async def export_table(request: Request):
         data, name, mime = await run_in_threadpool(
@@ -188,11 +195,7 @@ def build_app(
             data, media_type=mime, headers={"content-disposition": f'attachment; filename="{name}"'}
         )
 
-    async def export_prepared(request: Request):
-        if request.method == "POST":
-            await _json_body(request)
-            return JSONResponse(await run_in_threadpool(workspace.start_export))
-        return JSONResponse(workspace.export_state())
+    export_prepared = started(workspace.start_export, workspace.export_state)
 
     async def prepared_zip(request: Request):
         data = await run_in_threadpool(workspace.prepared_zip)

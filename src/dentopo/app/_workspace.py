@@ -95,6 +95,15 @@ class AppError(ValueError):
         self.status = status
 
 
+def _check_fields(data, kind, not_an_object: str, field: str) -> None:
+    """That the page's `data` is an object of `kind`'s fields only (:class:`AppError` if not)."""
+    if not isinstance(data, dict):
+        raise AppError(not_an_object)
+    unknown = sorted(set(data) - {f.name for f in fields(kind)})
+    if unknown:
+        raise AppError(f"unknown {field} {unknown[0]!r}")
+
+
 @dataclass(frozen=True)
 class RunOptions:
     """What a run computes: the metrics and ariaDNE's settings, workers, and whether to prepare."""
@@ -111,12 +120,7 @@ class RunOptions:
     @classmethod
     def from_json(cls, data) -> RunOptions:
         """Options from the page's JSON, every value checked (:class:`AppError` naming it)."""
-        if not isinstance(data, dict):
-            raise AppError("the run's options must be an object")
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(data) - known)
-        if unknown:
-            raise AppError(f"unknown run option {unknown[0]!r}")
+        _check_fields(data, cls, "the run's options must be an object", "run option")
         values = {**cls().__dict__, **data}
         # the library's own checks, as the command makes them (any case; molaR's and doolkit's
         # names and the sets of metrics expanded, in table order)
@@ -164,12 +168,9 @@ class RunOptions:
 
 def protocol_from_json(data) -> Protocol:
     """A :class:`Protocol` from the page's fields (:class:`AppError` naming a wrong one)."""
-    if not isinstance(data, dict):
-        raise AppError("the protocol must be an object of its parameters")
-    known = {f.name for f in fields(Protocol)}
-    unknown = sorted(set(data) - known)
-    if unknown:
-        raise AppError(f"unknown protocol parameter {unknown[0]!r}")
+    _check_fields(
+        data, Protocol, "the protocol must be an object of its parameters", "protocol parameter"
+    )
     values = {k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()}
     values.setdefault("name", "app")
     try:

@@ -63,7 +63,7 @@ def app_main(argv: list[str]) -> int:
     try:
         args = parser.parse_args(argv)
     except SystemExit as stop:
-        return int(stop.code or 0)
+        return stop.code if isinstance(stop.code, int) else 0
     APP.check()
     APP_SERVER.check()
     from ..app import AppError, AppServer, is_loopback
