@@ -356,7 +356,10 @@ def stated(protocol):
     except ModuleNotFoundError:  # pragma: no cover - Python 3.10
         import tomli as tomllib
 
-    return Protocol.from_mapping(tomllib.loads(protocol.to_toml()))
+    try:  # what is written reads back (tested); were it not, a usage error, not a traceback
+        return Protocol.from_mapping(tomllib.loads(protocol.to_toml()))
+    except (ProtocolError, tomllib.TOMLDecodeError) as exc:  # pragma: no cover
+        raise UsageError(f"the protocol cannot be written as TOML: {exc}") from None
 
 
 def list_protocols() -> int:
@@ -464,10 +467,19 @@ def prepare_main(argv: list[str]) -> int:
     files = [
         f for f in found.files if os.path.abspath(f) in given or not any(_inside(f, d) for d in own)
     ]
-    if len(files) < len(found.files) and not args.quiet:
-        say(f"{len(found.files) - len(files)} file(s) in the output folders left out")
+    left_out = len(found.files) - len(files)
+    if left_out and files and not args.quiet:
+        say(f"{left_out} file(s) in the output folders left out")
     if not files:
-        say("no mesh files found")
+        if left_out:  # every file found lies in the output folder: it holds the inputs
+            folders = " and ".join(repr(d) for d in own)
+            say(
+                f"no mesh files found outside the output folder {folders}: its {left_out} "
+                "file(s) count as outputs, not inputs; give an output folder that does not "
+                "hold the inputs"
+            )
+        else:
+            say("no mesh files found")
         return 2
     tasks = plan_preparation(files, args.paths, args.output, preview=args.preview)
     problem = output_problem(_planned(args, tasks), [("the input mesh", f) for f in files])
@@ -480,6 +492,12 @@ def prepare_main(argv: list[str]) -> int:
         except OSError as exc:
             say(f"cannot write --save-protocol {args.save_protocol!r}: {exc.strerror or exc}")
             return 2
+    try:
+        if any(os.path.isdir(p) and _inside(args.output, p) for p in args.paths):
+            mark_output_folder(args.output)
+    except OSError as exc:
+        say(f"cannot write into --output {args.output!r}: {exc.strerror or exc}")
+        return 2
     with guard_interrupts_all() as guard:
         try:
             code = _run(args, parser, protocol, tasks, render)
@@ -488,6 +506,32 @@ def prepare_main(argv: list[str]) -> int:
             code = INTERRUPTED
         guard.pending = None
     return code
+
+
+#: What the mark of a folder ``dentopo prepare`` writes into says.
+MARK_TEXT = (
+    "dentopo prepare writes into this folder. The dentopo command, searching a folder for\n"
+    "meshes, skips a subfolder holding this file, so that the prepared meshes here are not\n"
+    "measured again as scans.\n"
+)
+
+
+def mark_output_folder(folder: str) -> None:
+    """Mark `folder` as this tool's output (:data:`dentopo.batch.OUTPUT_FOLDER_MARK`), if new.
+
+    Called for an output folder inside an input folder, so that a later
+    ``dentopo INPUT`` does not measure the prepared copies again as scans
+    (as ``dentopo app`` marks its own).  Only a folder this run creates, or
+    finds empty, or already marked: a folder holding other files may hold
+    scans, which a mark would hide.  Raises OSError if it cannot be written.
+    """
+    from ..batch import OUTPUT_FOLDER_MARK
+
+    mark = os.path.join(folder, OUTPUT_FOLDER_MARK)
+    if os.path.isdir(folder) and (os.path.lexists(mark) or os.listdir(folder)):
+        return
+    os.makedirs(folder, exist_ok=True)
+    atomic_write(mark, lambda stream: stream.write(MARK_TEXT))
 
 
 def _planned_save_only(args) -> list[Planned]:

@@ -44,6 +44,7 @@ from scipy.spatial import cKDTree
 
 from ._clean import face_pieces
 from ._orient import boundary_loops
+from ._protocol import ProtocolError, scaled_direction
 from ._result import Outcome
 
 #: A vertex within this fraction of the mesh's size (its bounding box diagonal) from the
@@ -63,14 +64,21 @@ def crop_plane(vertices: np.ndarray, *, below=None, fraction=None, plane=None):
     up = np.array([0.0, 0.0, 1.0])
     if plane is not None:
         values = np.asarray(plane, dtype=np.float64).reshape(6)
-        normal = values[3:]
-        length = float(np.linalg.norm(normal))
-        if not (np.all(np.isfinite(values)) and length > 0):
-            raise ValueError(f"crop plane must be 6 finite numbers, the normal not 0; got {plane}")
-        return values[:3].copy(), normal / length
+        try:  # scaled first, as the protocol checks it: its length cannot overflow nor underflow
+            normal = np.asarray(scaled_direction("normal", values[3:]), dtype=np.float64)
+        except ProtocolError:
+            normal = None
+        if normal is None or not np.all(np.isfinite(values)):
+            raise ValueError(
+                f"crop plane must be 6 finite numbers, the normal not 0; got {_numbers(values)}"
+            )
+        return values[:3].copy(), normal / float(np.linalg.norm(normal))
     z = vertices[:, 2]
     if below is not None:
-        return np.array([0.0, 0.0, float(z.min()) + float(below)]), up
+        height = float(z.min()) + float(below)
+        if not np.isfinite(height):
+            raise ValueError(f"crop below={float(below):g} puts the plane beyond every number")
+        return np.array([0.0, 0.0, height]), up
     if fraction is not None:
         low, high = float(z.min()), float(z.max())
         return np.array([0.0, 0.0, high - float(fraction) * (high - low)]), up
@@ -138,7 +146,13 @@ def run(
     point, normal = found
     size = float(np.linalg.norm(np.ptp(vertices, axis=0)))
     snap = SNAP * size
-    dots = (vertices - point) @ normal
+    with np.errstate(over="ignore", invalid="ignore"):
+        dots = (vertices - point) @ normal
+    if not np.all(np.isfinite(dots)):
+        raise ValueError(
+            f"the crop plane through {_numbers(point)} with normal {_numbers(normal)} is too "
+            "far from the mesh: the vertices' distances to it overflow"
+        )
     side = np.sign(dots)
     side[np.abs(dots) <= snap] = 0.0
     corner = side[faces]
@@ -154,9 +168,13 @@ def run(
     }
     where = f"the crop plane through {_numbers(point)} with normal {_numbers(normal)} (mesh units)"
     if not above.any():
+        # heights along the normal from the origin: from the plane's point, a plane far
+        # away leaves nothing of the mesh's own span (1e308 away: -1e308 to -1e308)
+        heights = vertices @ normal
         raise ValueError(
-            f"{where} removes the whole mesh: every vertex lies on or below it (the mesh spans "
-            f"{float(dots.min()):.6g} to {float(dots.max()):.6g} along the normal from the point)"
+            f"{where} removes the whole mesh: every vertex lies on or below it (along the "
+            f"normal the mesh spans {float(heights.min()):.6g} to {float(heights.max()):.6g}, "
+            f"the plane lies at {float(point @ normal):.6g})"
         )
     if not under.any():
         details.update({"pieces": face_pieces(faces, len(vertices))[0], "merged_vertices": 0})

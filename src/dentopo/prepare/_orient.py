@@ -69,6 +69,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..mesh import boundary_edges, orient_consistently
 from ..topography._orientation import CLOSED_MARGIN, FLAT_TOLERANCE, closed_volume
+from ._protocol import ProtocolError, scaled_direction
 from ._result import Outcome
 
 #: A closed surface's shortest principal axis is distinct when its second moment is at
@@ -103,8 +104,8 @@ def rotation_to_z(direction) -> np.ndarray:
     -z (to 1e-12), any half-turn about a horizontal axis is smallest: the one
     about the horizontal axis nearest x is taken (about x itself for -z).
     """
-    a = np.asarray(direction, dtype=np.float64)
-    a = a / np.linalg.norm(a)
+    a = np.asarray(scaled_direction("direction", np.ravel(direction)), dtype=np.float64)
+    a = a / np.linalg.norm(a)  # scaled first: no overflow nor underflow (1e308, 5e-324)
     z = np.array([0.0, 0.0, 1.0])
     v = np.cross(a, z)
     s = float(np.linalg.norm(v))
@@ -388,8 +389,10 @@ def run(vertices: np.ndarray, faces: np.ndarray, *, mode: str, up, spin: str) ->
     warnings: list[str] = []
     if up is not None:
         direction = np.asarray(up, dtype=np.float64).reshape(3)
-        if not (np.all(np.isfinite(direction)) and np.linalg.norm(direction) > 0):
-            raise ValueError(f"up must be a finite, non-zero direction; got {up!r}")
+        try:  # scaled as the protocol checks it: its length neither overflows nor underflows
+            direction = np.asarray(scaled_direction("up", direction), dtype=np.float64)
+        except ProtocolError:
+            raise ValueError(f"up must be a finite, non-zero direction; got {up!r}") from None
         direction = direction / np.linalg.norm(direction)
         centre, _ = surface_moments(vertices, faces)
         rule, details = "up", {}

@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 
 from ..mesh import as_arrays, load_mesh, vertex_areas
+from ..mesh._validate import check_finite
 from . import _clean, _crop, _decimate, _orient, _smooth
 from ._protocol import Protocol, load_protocol
 from ._result import Outcome, PreparedCrown, Step, frozen_array
@@ -28,6 +29,26 @@ def _sha256(path: str | os.PathLike) -> str:
 
 def _area(vertices: np.ndarray, faces: np.ndarray) -> float:
     return float(vertex_areas(vertices, faces).sum()) if len(faces) else 0.0
+
+
+def _parameters(parameters: dict) -> str:
+    """A step's parameters in a message: ``method=laplacian, iterations=10, step=0.5``."""
+    return ", ".join(f"{key}={value}" for key, value in parameters.items() if value is not None)
+
+
+def _check_output(name: str, parameters: dict, vertices: np.ndarray, area: float) -> None:
+    """The safety net under every step: its mesh is finite and measurable, else a ValueError.
+
+    Each step checks what it can; whatever a step (or a library it calls) lets
+    through, a NaN or infinite coordinate, a mesh beyond double precision's
+    range (:func:`dentopo.mesh.check_finite`), or an area that overflows, stops
+    the preparation here, naming the step and its parameters, so that no such
+    mesh is ever returned or written.
+    """
+    where = f"the {name} step ({_parameters(parameters)}) gave an unusable mesh: "
+    check_finite(vertices, where=where)
+    if not np.isfinite(area):
+        raise ValueError(f"{where}its area overflows")
 
 
 def _runs(protocol: Protocol):
@@ -88,7 +109,9 @@ def run(mesh, protocol=None, *, geometry: str | None = None, **changes) -> Prepa
         f = np.asarray(outcome.faces, dtype=np.int64)
         if len(f) == 0:
             raise ValueError(f"the {name} step left no faces")
-        area_after = _area(v, f)
+        with np.errstate(over="ignore", invalid="ignore"):
+            area_after = _area(v, f)
+        _check_output(name, parameters, v, area_after)
         step_transform = None
         if outcome.transform is not None:
             step_transform = frozen_array(outcome.transform, np.float64)

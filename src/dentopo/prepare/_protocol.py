@@ -20,9 +20,14 @@ same whatever later versions change.  Its layout, a table per step::
     method = "quadric"        # or "meshlab" (pymeshlab, an optional GPL extra)
     [smooth]
     method = "implicit"       # laplacian, taubin, hc or implicit
-    iterations = 3
-    step = 0.1
+    iterations = 3            # at most 10,000
+    step = 0.1                # (0, 1] for laplacian, taubin and hc; (0, 1e6] for implicit
     pin_boundary = true       # the open base's vertices stay put (false: the filter as published)
+
+A name holds no control character, lone surrogate or line separator (it is
+shown on one line, in tables and records); the description and the source
+may hold tabs and line breaks.  What :meth:`Protocol.to_toml` writes reads
+back the same; a file may start with a byte-order mark.
 
 The :attr:`Protocol.digest` is the SHA-256 of the steps' parameters in a
 canonical form (the name and description left out): two protocols that do the
@@ -35,6 +40,7 @@ import hashlib
 import json
 import math
 import os
+import unicodedata
 from dataclasses import asdict, dataclass, fields, replace
 from importlib import resources
 from numbers import Integral, Real
@@ -69,6 +75,24 @@ SMOOTHERS = {
     "implicit": {"iterations": 3, "step": 0.1, "mu": None},
 }
 
+#: The most smoothing iterations a protocol may ask for (a hundred times the most published,
+#: MorphoTester's 100): more is a typing slip, and would run for hours on a raw scan.
+MAX_SMOOTH_ITERATIONS = 10_000
+
+#: The largest ``step`` and ``mu`` of each smoothing method.  The explicit filters
+#: (laplacian, taubin, hc) take them in (0, 1], trimesh's documented ranges: at most 1, a
+#: Laplacian pass moves each vertex to a convex combination of itself and its neighbours,
+#: so that it can never diverge; beyond, it does (on the sample tooth, step 1.5 grows the
+#: mesh 1e5-fold in 100 passes).  Implicit fairing is stable at any step in exact
+#: arithmetic; beyond 1e6 (MorphoTester uses 0.1) the identity in ``I - step L`` is lost to
+#: rounding and the result is noise (1e16 grows the sample tooth 170-fold).
+SMOOTH_LIMITS = {
+    "laplacian": {"step": 1.0},
+    "taubin": {"step": 1.0, "mu": 1.0},
+    "hc": {"step": 1.0, "mu": 1.0},
+    "implicit": {"step": 1e6},
+}
+
 #: The step tables of a protocol file, and the keys each may hold (file key -> field).
 _TABLES = {
     "clean": {"enabled": "clean", "keep": "keep"},
@@ -99,15 +123,26 @@ class ProtocolError(ValueError):
     """A protocol's parameter or file is wrong (the message names it)."""
 
 
+def _shown(value, limit: int = 60) -> str:
+    """``repr(value)``, cut to `limit` characters (a message stays one short line)."""
+    try:
+        text = repr(value)
+    except RecursionError:  # pragma: no cover - nested deeper than repr goes
+        return f"a nested {type(value).__name__}"
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def _choice(name: str, value, choices) -> str:
     if not isinstance(value, str) or value not in choices:
-        raise ProtocolError(f"{name} must be one of {', '.join(map(repr, choices))}; got {value!r}")
+        raise ProtocolError(
+            f"{name} must be one of {', '.join(map(repr, choices))}; got {_shown(value)}"
+        )
     return value
 
 
 def _number(name: str, value, *, low=None, high=None, open_low=False) -> float:
     if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(value):
-        raise ProtocolError(f"{name} must be a finite number; got {value!r}")
+        raise ProtocolError(f"{name} must be a finite number; got {_shown(value)}")
     value = float(value)
     if low is not None and (value < low or (open_low and value == low)):
         bound = f"above {low:g}" if open_low else f"at least {low:g}"
@@ -117,11 +152,13 @@ def _number(name: str, value, *, low=None, high=None, open_low=False) -> float:
     return value
 
 
-def _count(name: str, value, *, low: int) -> int:
+def _count(name: str, value, *, low: int, high: int | None = None) -> int:
     if isinstance(value, bool) or not isinstance(value, Integral):
-        raise ProtocolError(f"{name} must be a whole number; got {value!r}")
+        raise ProtocolError(f"{name} must be a whole number; got {_shown(value)}")
     if value < low:
         raise ProtocolError(f"{name} must be at least {low}; got {value}")
+    if high is not None and value > high:
+        raise ProtocolError(f"{name} must be at most {high:,}; got {_shown(int(value))}")
     return int(value)
 
 
@@ -135,10 +172,67 @@ def _vector(name: str, value, size: int) -> tuple[float, ...]:
     try:
         items = tuple(value)
     except TypeError:
-        raise ProtocolError(f"{name} must be {size} numbers; got {value!r}") from None
+        raise ProtocolError(f"{name} must be {size} numbers; got {_shown(value)}") from None
     if len(items) != size:
         raise ProtocolError(f"{name} must be {size} numbers; got {len(items)}")
     return tuple(_number(name, item) for item in items)
+
+
+def scaled_direction(name: str, values) -> tuple[float, ...]:
+    """`values` (finite numbers) times a power of two, their largest magnitude in [0.5, 1).
+
+    The same direction exactly (a power of two scales without rounding), whose
+    length can be computed: ``1e308`` components overflow and subnormal ones
+    underflow when squared, so that the length is infinite or 0 and the unit
+    vector NaN or zero.  The steps normalise this (``up``, the crop plane's
+    normal), and the protocol checks with it: every direction the check
+    passes gives a finite unit vector.
+
+    Raises
+    ------
+    ProtocolError
+        If every component is 0 (no direction) or one is not finite (named `name`).
+    """
+    items = [float(x) for x in values]
+    if not all(math.isfinite(x) for x in items):
+        raise ProtocolError(f"{name} must be finite numbers; got {_shown(tuple(values))}")
+    largest = max((abs(x) for x in items), default=0.0)
+    if not largest > 0:
+        raise ProtocolError(f"{name} must not be the zero vector")
+    exponent = math.frexp(largest)[1]
+    return tuple(math.ldexp(x, -exponent) for x in items)
+
+
+#: Unicode categories a protocol's name may not hold: control characters (they end
+#: lines, move the cursor, are refused raw by TOML), lone surrogates (no UTF-8 can hold
+#: them) and line and paragraph separators.  The description and the source may hold
+#: tabs and line breaks, but no other of these.
+_NOT_IN_NAME = {
+    "Cc": "a control character",
+    "Cs": "a lone surrogate",
+    "Zl": "a line separator",
+    "Zp": "a paragraph separator",
+}
+_TEXT_CONTROLS = frozenset("\t\n\r")
+
+
+def _check_text(field: str, value) -> str:
+    """`value` if it is a text a protocol file can hold (a ProtocolError naming the character)."""
+    if not isinstance(value, str):
+        raise ProtocolError(f"{field} must be a text; got {_shown(value)}")
+    for place, char in enumerate(value):
+        kind = unicodedata.category(char)
+        if kind not in _NOT_IN_NAME or (field != "name" and char in _TEXT_CONTROLS):
+            continue
+        if kind == "Cc" and field != "name":
+            what = "a control character other than tab and line breaks"
+        else:
+            what = _NOT_IN_NAME[kind]
+        raise ProtocolError(
+            f"{field} must not hold {what}: U+{ord(char):04X} at character {place + 1} "
+            f"of {_shown(value, 40)}"
+        )
+    return value
 
 
 @dataclass(frozen=True)
@@ -209,17 +303,15 @@ class Protocol:
     def __post_init__(self):
         set_ = object.__setattr__
         for text in _DESCRIPTIVE:
-            if not isinstance(getattr(self, text), str):
-                raise ProtocolError(f"{text} must be a text; got {getattr(self, text)!r}")
+            _check_text(text, getattr(self, text))
         if not isinstance(self.clean, bool):
-            raise ProtocolError(f"clean must be true or false; got {self.clean!r}")
+            raise ProtocolError(f"clean must be true or false; got {_shown(self.clean)}")
         _choice("keep", self.keep, KEEP)
         _choice("orient", self.orient, ORIENT)
         _choice("spin", self.spin, SPINS)
         if self.up is not None:
             up = _vector("up", self.up, 3)
-            if not math.hypot(*up) > 0:
-                raise ProtocolError("up must not be the zero vector")
+            scaled_direction("up", up)  # the step's unit vector is finite (see there)
             set_(self, "up", up)
         if self.orient == "none" and (self.up is not None or self.spin != "none"):
             raise ProtocolError("up and spin need orient='occlusal' (orient='none' keeps the pose)")
@@ -238,8 +330,9 @@ class Protocol:
             )
         if self.crop_plane is not None:
             plane = _vector("crop_plane", self.crop_plane, 6)
-            if not math.hypot(*plane[3:]) > 0:
+            if not any(plane[3:]):
                 raise ProtocolError("crop_plane's normal (its last three numbers) must not be zero")
+            _plane_height(plane)
             set_(self, "crop_plane", plane)
         if self.faces is not None:
             set_(self, "faces", _count("faces", self.faces, low=4))
@@ -252,13 +345,18 @@ class Protocol:
             raise ProtocolError("smoothing parameters need a smooth method")
         if not isinstance(self.smooth_pin_boundary, bool):
             raise ProtocolError(
-                f"smooth_pin_boundary must be true or false; got {self.smooth_pin_boundary!r}"
+                f"smooth_pin_boundary must be true or false; got {_shown(self.smooth_pin_boundary)}"
             )
         if self.smooth_iterations is not None:
             set_(
                 self,
                 "smooth_iterations",
-                _count("smooth_iterations", self.smooth_iterations, low=0),
+                _count(
+                    "smooth_iterations",
+                    self.smooth_iterations,
+                    low=0,
+                    high=MAX_SMOOTH_ITERATIONS,
+                ),
             )
         if self.smooth_step is not None:
             set_(
@@ -270,6 +368,19 @@ class Protocol:
             if self.smooth not in ("taubin", "hc"):
                 raise ProtocolError(f"smooth_mu is a parameter of taubin and hc, not {self.smooth}")
             set_(self, "smooth_mu", _number("smooth_mu", self.smooth_mu, low=0.0, open_low=True))
+        if self.smooth is not None:
+            for key, value in (("step", self.smooth_step), ("mu", self.smooth_mu)):
+                high = SMOOTH_LIMITS[self.smooth].get(key)
+                if value is not None and high is not None and value > high:
+                    why = (
+                        "its stability limit: beyond, the filter can diverge"
+                        if self.smooth != "implicit"
+                        else "beyond, rounding swamps the system solved"
+                    )
+                    raise ProtocolError(
+                        f"smooth_{key} must be at most {high:g} for {self.smooth} smoothing "
+                        f"({why}); got {value:g}"
+                    )
 
     # -- derived ------------------------------------------------------------------------------
 
@@ -386,12 +497,12 @@ class Protocol:
                     if inner not in _TABLES[key]:
                         known = ", ".join(_TABLES[key])
                         raise ProtocolError(
-                            f"{where}: [{key}] has no key {inner!r} (known: {known})"
+                            f"{where}: [{key}] has no key {_shown(inner)} (known: {known})"
                         )
                     values[_TABLES[key][inner]] = item
             else:
                 known = ", ".join([*_DESCRIPTIVE, *_TABLES])
-                raise ProtocolError(f"{where}: unknown key {key!r} (known: {known})")
+                raise ProtocolError(f"{where}: unknown key {_shown(key)} (known: {known})")
         if values.get("faces") is not None and isinstance(values["faces"], float):
             if values["faces"].is_integer():
                 values["faces"] = int(values["faces"])
@@ -410,12 +521,57 @@ class Protocol:
         return replace(self, **changes)
 
 
+def _plane_height(plane) -> float:
+    """The crop plane's height along its unit normal (``p . n``); a ProtocolError if it overflows.
+
+    The crop step measures every vertex's height along the normal from this;
+    a point so far out that it overflows (``1e308`` in two coordinates along
+    a slanted normal) would give infinite heights.
+    """
+    normal = scaled_direction("crop_plane's normal", plane[3:])
+    length = math.sqrt(sum(x * x for x in normal))
+    height = sum(p * n / length for p, n in zip(plane[:3], normal, strict=True))
+    if not math.isfinite(height):
+        raise ProtocolError(
+            f"crop_plane's point {_shown(tuple(plane[:3]))} is too far from the origin: its "
+            "distance along the normal overflows"
+        )
+    return height
+
+
+#: The escapes of a TOML basic string (the control characters without one: ``\uXXXX``).
+_ESCAPES = {'"': '\\"', "\\": "\\\\", "\b": "\\b", "\t": "\\t", "\n": "\\n"}
+_ESCAPES.update({"\f": "\\f", "\r": "\\r"})
+
+
+def _toml_string(text: str) -> str:
+    """`text` as a TOML basic string: quotes, backslashes and every control character escaped.
+
+    TOML refuses raw control characters (U+0000 to U+001F but tab, and U+007F)
+    in a string, and lone surrogates anywhere (they are no Unicode scalar
+    values): the first are escaped, the second refused (the protocol's texts
+    are checked for them before).
+    """
+    out = []
+    for char in text:
+        code = ord(char)
+        if char in _ESCAPES:
+            out.append(_ESCAPES[char])
+        elif code < 0x20 or code == 0x7F:
+            out.append(f"\\u{code:04X}")
+        elif 0xD800 <= code <= 0xDFFF:
+            raise ProtocolError(f"a lone surrogate (U+{code:04X}) cannot be written to TOML")
+        else:
+            out.append(char)
+    return '"' + "".join(out) + '"'
+
+
 def _toml(value) -> str:
     """One TOML value (text, bool, number or array)."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)  # a JSON string is a TOML basic string
+        return _toml_string(value)
     if isinstance(value, Integral):
         return str(int(value))
     if isinstance(value, Real):
@@ -432,17 +588,39 @@ def named_protocols() -> dict[str, Protocol]:
     found = {}
     for entry in sorted(resources.files(__package__).joinpath(_NAMED).iterdir(), key=str):
         if entry.name.endswith(".toml"):
-            protocol = _parse(entry.read_text(encoding="utf-8"), f"protocol {entry.name}")
+            protocol = parse_protocol(entry.read_text(encoding="utf-8"), f"protocol {entry.name}")
             found[protocol.name] = protocol
     return found
 
 
-def _parse(text: str, where: str) -> Protocol:
+#: The byte-order mark some editors put at the start of a UTF-8 file (TOML has none: it is
+#: dropped, the file read).
+BOM = "\ufeff"
+
+
+def parse_protocol(text: str, where: str = "the protocol") -> Protocol:
+    """A protocol from the text of a TOML file (a leading byte-order mark is dropped).
+
+    Raises
+    ------
+    ProtocolError
+        One line naming `where` and the problem: not valid TOML (also nested
+        deeper than the reader goes), or a step's parameter wrong.
+    """
+    if text.startswith(BOM):
+        text = text[len(BOM) :]
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ProtocolError(f"{where} is not valid TOML: {exc}") from None
-    return Protocol.from_mapping(data, where=where)
+    except RecursionError:
+        raise ProtocolError(
+            f"{where} is not a protocol: its arrays or tables nest too deeply to be read"
+        ) from None
+    try:
+        return Protocol.from_mapping(data, where=where)
+    except RecursionError:  # pragma: no cover - the reader refuses such nesting first
+        raise ProtocolError(f"{where} is not a protocol: its values nest too deeply") from None
 
 
 def read_protocol(path: str | os.PathLike) -> Protocol:
@@ -460,7 +638,7 @@ def read_protocol(path: str | os.PathLike) -> Protocol:
         text = path.read_bytes().decode("utf-8")
     except UnicodeDecodeError:
         raise ProtocolError(f"protocol {path} is not UTF-8 text") from None
-    return _parse(text, f"protocol {path}")
+    return parse_protocol(text, f"protocol {path}")
 
 
 def load_protocol(protocol) -> Protocol:

@@ -44,6 +44,16 @@ sets ``pin_boundary = false``, as MorphoTester does not pin.  With
 as they are; pinned, trimesh's filters run with trimesh's own pinned operator
 (``laplacian_calculation(mesh, pinned_vertices=...)``), and implicit fairing
 keeps the pinned rows of its system as identity rows.
+
+A filter that diverges is an error, never a mesh: the protocol keeps every
+parameter in its method's range (:data:`~dentopo.prepare._protocol.SMOOTH_LIMITS`,
+at most :data:`~dentopo.prepare._protocol.MAX_SMOOTH_ITERATIONS` passes), and
+within it Laplacian smoothing cannot diverge; Taubin's and HC's filters still
+can for some pairs of parameters (Taubin with step 0.1 and mu 1 grows the
+sample tooth 1e13-fold in 100 passes).  So the result is checked: non-finite
+coordinates, or a mesh grown more than :data:`GROWTH` times in size (no
+smoothing grows a mesh: Taubin's slight inflation is a fraction of a percent),
+raise a ``ValueError`` naming the method and its parameters.
 """
 
 from __future__ import annotations
@@ -58,6 +68,46 @@ from scipy.sparse.linalg import splu
 from ..mesh import boundary_edges
 from ._protocol import SMOOTHERS
 from ._result import Outcome
+
+#: A smoothed mesh whose size (the largest side of its bounding box) is more than this many
+#: times the input's has diverged.
+GROWTH = 10.0
+
+
+def _extent(vertices: np.ndarray) -> float:
+    with np.errstate(over="ignore", invalid="ignore"):
+        return float(np.max(np.ptp(vertices, axis=0))) if len(vertices) else 0.0
+
+
+def check_converged(
+    before: np.ndarray, after: np.ndarray, *, method: str, iterations: int, step, mu=None
+) -> None:
+    """Raise ``ValueError`` naming the parameters if smoothing `before` gave a diverged `after`.
+
+    Diverged: a non-finite coordinate, or a size more than :data:`GROWTH` times the input's.
+    """
+    grown = _extent(after)
+    if np.all(np.isfinite(after)) and np.isfinite(grown):
+        size = _extent(before)
+        if not grown > GROWTH * size:
+            return
+        what = f"the mesh grew {grown / size:.3g}-fold" if size > 0 else "the mesh grew"
+    else:
+        what = "it gave non-finite coordinates"
+    given = f"step {step:g}" + ("" if mu is None else f", mu {mu:g}")
+    raise ValueError(
+        f"{method} smoothing diverged ({what}) with {given} over {iterations} iterations: "
+        f"{_REMEDY.get(method, 'take a smaller step')}, or fewer iterations"
+    )
+
+
+#: What to change when a filter diverges.  HC cannot diverge with mu (beta) at least 0.5
+#: (every eigenvalue of its iteration is then at most 1 in size, the step in (0, 1]).
+_REMEDY = {
+    "laplacian": "take a step of at most 1",
+    "taubin": "take mu a little above step (Taubin's rule: 1/step - 1/mu between 0 and 0.1)",
+    "hc": "take mu of 0.5 or more (HC then cannot diverge)",
+}
 
 
 def boundary_vertices(faces: np.ndarray, n_vertices: int) -> np.ndarray:
@@ -118,10 +168,14 @@ def implicit_fairing(
         solve = splu(system).solve
     except RuntimeError as exc:  # an exactly singular system (a degenerate mesh)
         raise ValueError(f"implicit fairing: the system cannot be solved ({exc})") from None
-    for _ in range(iterations):
-        x = solve(x)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        for _ in range(iterations):
+            x = solve(x)
     if not np.isfinite(x).all():
-        raise ValueError("implicit fairing gave non-finite coordinates (a degenerate mesh?)")
+        raise ValueError(
+            f"implicit fairing gave non-finite coordinates with step {step:g} over "
+            f"{iterations} iterations (a degenerate mesh, or too large a step?)"
+        )
     return x
 
 
@@ -176,9 +230,21 @@ def run(
     details = {"pinned_vertices": len(pinned)}
     if iterations == 0:
         return Outcome(vertices.copy(), faces.copy(), details=details)
+    given = {"method": method, "iterations": iterations, "step": step}
     if method == "implicit":
         moved = implicit_fairing(vertices, faces, iterations=iterations, step=step, pinned=pinned)
+        check_converged(vertices, moved, **given)
         return Outcome(moved, faces.copy(), details=details)
+    with np.errstate(over="ignore", invalid="ignore"):  # a diverging filter: checked below
+        moved = _explicit(vertices, faces, method, iterations, step, mu, pinned)
+    check_converged(vertices, moved, **given, mu=mu if method in ("taubin", "hc") else None)
+    if pin_boundary and len(pinned):
+        moved[pinned] = vertices[pinned]  # exactly: the operator keeps them, up to rounding
+    return Outcome(moved, faces.copy(), details=details)
+
+
+def _explicit(vertices, faces, method, iterations, step, mu, pinned) -> np.ndarray:
+    """trimesh's `method` filter on a copy of the mesh (with its pinned operator)."""
     mesh = trimesh.Trimesh(vertices=vertices.copy(), faces=faces.copy(), process=False)
     operator = (
         trimesh.smoothing.laplacian_calculation(mesh, pinned_vertices=pinned)
@@ -201,7 +267,4 @@ def run(
         trimesh.smoothing.filter_humphrey(
             mesh, alpha=step, beta=mu, iterations=iterations, laplacian_operator=operator
         )
-    moved = np.array(mesh.vertices, dtype=np.float64)
-    if pin_boundary and len(pinned):
-        moved[pinned] = vertices[pinned]  # exactly: the operator keeps them, up to rounding
-    return Outcome(moved, faces.copy(), details=details)
+    return np.array(mesh.vertices, dtype=np.float64)
