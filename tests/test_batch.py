@@ -262,3 +262,44 @@ def test_the_command_says_a_dae_file_was_skipped(tmp_path, monkeypatch, capsys):
         "dentopo: warning: a .dae file skipped in the folders searched: reading .dae needs "
         "pycollada (pip install pycollada)"
     ]
+
+
+def test_a_protocol_renamed_since_keeps_its_rows_under_its_new_name(tmp_path, capsys):
+    from dentopo import Protocol
+    from dentopo.cli import main
+    from dentopo.formats import PROTOCOL_KEY
+
+    for name in ("a.ply", "b.ply"):
+        tooth(rings=10).export(tmp_path / name)
+    old = Protocol(name="lab-old", orient="none", faces=600)
+    new = old.replace(name="lab-new")
+    assert new.digest == old.digest and new.label != old.label
+    first = compute_batch(tmp_path, prepare=old)
+    marked = [dict(r, dne=-1.0) for r in first]
+    copy = [dict(r) for r in marked]
+    again = compute_batch(tmp_path, prepare=new, resume_from=marked)
+    assert [r["dne"] for r in again] == [-1.0, -1.0]  # reused: the same steps, same digest
+    assert [r[PROTOCOL_KEY] for r in again] == [new.label] * 2  # named as this run names it
+    assert marked == copy  # the rows passed in are untouched
+    # the command: a table measured under the old name, resumed under the new one
+    toml = tmp_path / "new.toml"
+    toml.write_text(new.to_toml(), encoding="utf-8")
+    out = tmp_path / "out.csv"
+    write_table(out, first)
+    capsys.readouterr()
+    assert (
+        main(
+            [
+                str(tmp_path / "a.ply"),
+                str(tmp_path / "b.ply"),
+                "--prepare",
+                str(toml),
+                "-o",
+                str(out),
+                "--resume",
+            ]
+        )
+        == 0
+    )
+    assert "2 of 2 files already done" in capsys.readouterr().err
+    assert [r[PROTOCOL_KEY] for r in read_table(out)] == [new.label] * 2

@@ -38,8 +38,15 @@ def test_fill_holes_is_skipped_only_where_it_adds_nothing(sphere, tooth):
         assert _may_have_small_holes(faces, len(mesh.vertices)) == expected
         added = len(_trimesh_fill_holes(mesh).faces) - len(faces)
         assert (added > 0) == expected  # the check agrees with what trimesh does
+    # a 3-edge hole is the open sphere's only boundary, its base: left open, and said so
     cleaned = clean(np.asarray(open_sphere.vertices), np.asarray(open_sphere.faces))
-    assert len(cleaned.faces) == len(sphere.faces)  # the 3-edge hole was filled
+    assert len(cleaned.faces) == len(open_sphere.faces)
+    assert cleaned.metadata["cleaning"].bases_kept == (3,)
+    # beside the crown's open base, the same hole is a defect: filled
+    holed = np.delete(np.asarray(tooth.faces), 700, axis=0)
+    cleaned = clean(np.asarray(tooth.vertices), holed)
+    assert len(cleaned.faces) == len(tooth.faces)
+    assert cleaned.metadata["cleaning"].holes_filled == 1
 
 
 def test_orientation_walk_restores_a_scrambled_mesh(tooth):
@@ -137,6 +144,29 @@ def test_first_faces_is_trimeshs_unique_faces(name, vertices, faces):
         assert np.array_equal(first_faces(faces, keep, len(vertices)), expected)
 
 
+def _not_closing_a_base(faces, filled):
+    """Which faces of `filled` (`faces`, then the faces trimesh added) are kept: all but those
+    closing a boundary loop at least as long as every other loop of its piece (its base)."""
+    import networkx as nx
+
+    mesh = trimesh.Trimesh(np.zeros((int(faces.max()) + 1, 3)), faces, process=False)
+    boundary = mesh.edges_sorted[trimesh.grouping.group_rows(mesh.edges_sorted, require_count=1)]
+    loops = [set(c) for c in nx.connected_components(nx.from_edgelist(boundary.tolist()))]
+    length = [sum(1 for a, b in boundary if a in loop) for loop in loops]
+    piece = {}
+    for k, component in enumerate(nx.connected_components(nx.from_edgelist(mesh.edges.tolist()))):
+        piece.update(dict.fromkeys(component, k))
+    longest = {}
+    for loop, n in zip(loops, length, strict=True):
+        longest[piece[min(loop)]] = max(longest.get(piece[min(loop)], 0), n)
+    keep = np.ones(len(filled), dtype=bool)
+    for k in range(len(faces), len(filled)):
+        for loop, n in zip(loops, length, strict=True):
+            if set(filled[k].tolist()) <= loop and n >= longest[piece[min(loop)]]:
+                keep[k] = False
+    return keep
+
+
 def _trimesh_clean(vertices, faces):
     """The published cleaning, step by step with trimesh (what ``clean`` must equal)."""
     from dentopo.mesh import length_scale, nondegenerate_faces
@@ -144,6 +174,7 @@ def _trimesh_clean(vertices, faces):
     scale = length_scale(vertices, faces)
     mesh = trimesh.Trimesh(vertices, faces, process=False)
     mesh.fill_holes()
+    mesh.update_faces(_not_closing_a_base(faces, mesh.faces))
     mesh.update_faces(nondegenerate_faces(mesh.vertices, mesh.faces, scale=scale))
     mesh.update_faces(mesh.unique_faces())
     mesh.remove_unreferenced_vertices()

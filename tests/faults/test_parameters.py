@@ -219,3 +219,122 @@ print("ok")
     ran = python(code)
     assert ran.returncode == 0, ran.describe()
     assert ran.stdout.strip() == "ok"
+
+
+#: Topography options out of range, each with the words of its one line (the option's name
+#: and its range).  ``--dne-outliers 100`` used to be accepted and gave classic DNE 0.0 as ok,
+#: a step of 0 eight identical OPCR rotations, and 1e8 steps a table of 1e8 columns.
+OUTLIERS_WORDS = "dne_outliers is a percentage and must lie in [0, 50]"
+STEPS_WORDS = "opcr_steps must lie in [1, 360]"
+STEP_WORDS = "opcr_step must lie in (0, 360 / opcr_steps] degrees"
+BAD_TOPOGRAPHY = [
+    (["--dne-outliers=100"], OUTLIERS_WORDS),
+    (["--dne-outliers=99.99"], OUTLIERS_WORDS),
+    (["--dne-outliers=50.5"], OUTLIERS_WORDS),
+    (["--dne-outliers=-0.1"], OUTLIERS_WORDS),
+    (["--dne-outliers=nan"], OUTLIERS_WORDS),
+    (["--dne-outliers=inf"], OUTLIERS_WORDS),
+    (["--opcr-steps=0"], STEPS_WORDS),
+    (["--opcr-steps=361"], STEPS_WORDS),
+    (["--opcr-steps=100000000"], STEPS_WORDS),
+    (["--opcr-step=0"], STEP_WORDS),
+    (["--opcr-step=-5.625"], STEP_WORDS),
+    (["--opcr-step=45.5"], STEP_WORDS),  # 8 rotations past one turn
+    (["--opcr-step=nan"], STEP_WORDS),
+    (["--opcr-step=1e300"], STEP_WORDS),
+    (["--opcr-steps=2", "--opcr-step=181"], STEP_WORDS),
+]
+
+
+def test_cli_refuses_topography_options_out_of_range(mesh_file, tmp_path):
+    argvs = [
+        [mesh_file, "--metrics", "classic,opcr", *options, "-o", str(tmp_path / "t.csv")]
+        for options, _ in BAD_TOPOGRAPHY
+    ]
+    for (options, words), (code, stderr) in zip(BAD_TOPOGRAPHY, _run_many(argvs), strict=True):
+        assert code == 2, (options, stderr)
+        assert words in _one_line(stderr), (options, stderr)
+    assert not (tmp_path / "t.csv").exists()
+
+
+def test_the_ends_of_the_topography_ranges_compute(mesh_file, tmp_path):
+    cases = [["--dne-outliers=0"], ["--dne-outliers=50"], ["--opcr-steps=360", "--opcr-step=1"]]
+    cases += [["--opcr-steps=1", "--opcr-step=360"], ["--opcr-steps=8", "--opcr-step=45"]]
+    tables = [tmp_path / f"{k}.csv" for k in range(len(cases))]
+    argvs = [
+        [mesh_file, "--metrics", "classic,opcr", *options, "-q", "-o", str(table)]
+        for options, table in zip(cases, tables, strict=True)
+    ]
+    for options, table, (code, stderr) in zip(cases, tables, _run_many(argvs), strict=True):
+        assert code == 0, (options, stderr)
+        header, row = (line.split(",") for line in table.read_text().splitlines()[:2])
+        assert row[header.index("status")] == "ok", (options, row)
+        assert float(row[header.index("classic_dne")]) > 0, (options, row)
+
+
+def test_library_refuses_outliers_and_rotations_out_of_range():
+    code = """
+import json
+from dentopo import classic_dne, opcr
+from dentopo.batch import make_settings
+from dentopo.samples import tooth
+mesh = tooth(rings=6)
+words = []
+for call in (
+    lambda: classic_dne(mesh, outliers=100),
+    lambda: classic_dne(mesh, outliers=float("nan")),
+    lambda: opcr(mesh, step=0),
+    lambda: opcr(mesh, steps=1000),
+    lambda: make_settings(dne_outliers=100),
+    lambda: make_settings(opcr_step=-1),
+):
+    try:
+        call()
+    except ValueError as exc:
+        words.append(str(exc))
+    else:
+        words.append("no error")
+print(json.dumps(words))
+"""
+    ran = python(code)
+    assert ran.returncode == 0, ran.describe()
+    words = json.loads(ran.stdout)
+    assert words[0].startswith("outliers is a percentage and must lie in [0, 50]"), words
+    assert words[1].startswith("outliers is a percentage and must lie in [0, 50]"), words
+    assert words[2].startswith("step must lie in (0, 360 / steps]"), words
+    assert words[3].startswith("steps must lie in [1, 360]"), words
+    assert words[4].startswith(OUTLIERS_WORDS), words
+    assert words[5].startswith(STEP_WORDS), words
+
+
+def test_classic_dne_that_measures_no_face_is_an_error_never_zero():
+    # a flat plate with one raised vertex: most faces have no energy, so at the top 50 % the
+    # cut falls at 0 and takes every face with energy; a cap whose faces are all boundary
+    # faces leaves none at all.  Both gave DNE 0.0 as ok; a flat plate rightly measures 0.0.
+    code = """
+import json
+import numpy as np
+from scipy.spatial import Delaunay
+from dentopo import classic_dne
+grid = np.stack(np.meshgrid(np.arange(8.0), np.arange(8.0)), -1).reshape(-1, 2)
+faces = Delaunay(grid).simplices
+flat = np.c_[grid, np.zeros(len(grid))]
+bump = flat.copy()
+bump[27, 2] = 1.0
+cap = (np.array([[1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [0, 0, 1.0]]),
+       np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]))
+out = []
+for mesh, outliers in (((bump, faces), 50), (cap, 0.1), ((bump, faces), 0.1), ((flat, faces), 50)):
+    try:
+        out.append(classic_dne(mesh, outliers=outliers).dne)
+    except ValueError as exc:
+        out.append(str(exc))
+print(json.dumps(out))
+"""
+    ran = python(code)
+    assert ran.returncode == 0, ran.describe()
+    cut, cap, kept, flat = json.loads(ran.stdout)
+    assert isinstance(cut, str) and "choose fewer outliers (dne_outliers)" in cut, cut
+    assert isinstance(cap, str) and "4 of its 4 faces are boundary faces" in cap, cap
+    assert isinstance(kept, float) and kept > 0
+    assert flat == 0.0

@@ -10,18 +10,25 @@ error, while the other metrics of the row are kept, as molaR_Batch carries on.
 
 from __future__ import annotations
 
+import math
 import os
+import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
+import numpy as np
+import trimesh
+
 from ..ariadne import ariaDNE
 from ..formats import DOOLKIT_NAMES, METRIC_KEYS, SETTING_KEYS
-from ..mesh import load_mesh
+from ..mesh import clean_listed, load_mesh
 from ..topography import (
     CLASSIC_KEYS,
     DOOLKIT_BASE_KEYS,
     DOOLKIT_METRICS,
     ORIENTED,
+    UNIT_DEPENDENT,
+    UnitWarning,
     angularity,
     arc,
     check_alpha,
@@ -29,10 +36,10 @@ from ..topography import (
     check_classic_options,
     check_duplicates,
     check_find_alpha,
-    check_finite,
     check_int,
     check_metrics,
     check_min_area,
+    check_opcr_options,
     check_orient,
     classic_dne,
     doolkit_arc,
@@ -43,6 +50,7 @@ from ..topography import (
     footprint_area,
     hypsodonty,
     inclination,
+    millimetres_per_unit,
     opc,
     opcr,
     prepare_surface,
@@ -94,6 +102,15 @@ class TopographyOptions:
     duplicates : str
         ``"drop"`` (faces listed twice measured once) or ``"keep"`` (molaR's:
         as listed); see :func:`dentopo.topography.prepare_surface`.
+    unit : str, float or None
+        The meshes' length unit: a name (``"um"``, ``"mm"``, ``"cm"``, ``"m"``,
+        ``"in"``) or millimetres per unit; kept as millimetres per unit.
+        doolkit's metrics whose definitions assume millimetres
+        (:data:`dentopo.topography.UNIT_DEPENDENT`: angularity, the relief
+        indices, ARC, shape index, footprint, hypsodonty) are measured on the
+        crown rescaled to millimetres, their lengths and areas given back in
+        the mesh's unit.  None (the default): the coordinates are taken as
+        millimetres, as doolkit takes them, and the rows say where that matters.
     """
 
     alpha: float = 0.075
@@ -109,13 +126,15 @@ class TopographyOptions:
     arc_range: tuple[float, float] = (0.01, 0.99)
     orient: str = "auto"
     duplicates: str = "drop"
+    unit: float | None = None
 
     def __post_init__(self):
         # the metrics' own checks, made once for the whole batch
         object.__setattr__(self, "alpha", check_alpha(self.alpha))
         object.__setattr__(self, "find_alpha", check_find_alpha(self.find_alpha))
-        object.__setattr__(self, "opcr_steps", check_int("opcr_steps", self.opcr_steps, low=1))
-        object.__setattr__(self, "opcr_step", check_finite("opcr_step", self.opcr_step))
+        steps, step = check_opcr_options(self.opcr_steps, self.opcr_step)
+        object.__setattr__(self, "opcr_steps", steps)
+        object.__setattr__(self, "opcr_step", step)
         object.__setattr__(self, "min_faces", check_int("min_faces", self.min_faces, low=0))
         object.__setattr__(self, "min_area", check_min_area(self.min_area))
         outliers, boundary, kappa = check_classic_options(
@@ -129,6 +148,7 @@ class TopographyOptions:
         object.__setattr__(self, "arc_range", quantiles)
         object.__setattr__(self, "orient", check_orient(self.orient))
         object.__setattr__(self, "duplicates", check_duplicates(self.duplicates))
+        object.__setattr__(self, "unit", millimetres_per_unit(self.unit))
 
     def rotations(self) -> tuple[float, ...]:
         """OPCR's rotations, degrees."""
@@ -149,6 +169,7 @@ class TopographyOptions:
             "arc_boundary": self.arc_boundary,
             "arc_range_low": self.arc_range[0],
             "arc_range_high": self.arc_range[1],
+            "mm_per_unit": self.unit,
         }
         record = {}
         for metric in metrics:
@@ -222,14 +243,98 @@ def _values(metric: str, result) -> dict:
     return values
 
 
-def _prepared(mesh, options: TopographyOptions):
-    """The surface molaR's metrics share, or the reason it could not be prepared."""
+#: Why a value can be undefined, by record key: what the row's warning (or error) says.
+_UNDEFINED = {
+    "arc_positive": "a mean over no faces: no face has an ARC of 0 or more",
+    "arc_pos_mean": "a mean over no faces: no face has an ARC of 0 or more",
+    "arc_negative": "a mean over no faces: no face has a negative ARC (nothing concave)",
+    "arc_neg_mean": "a mean over no faces: no face has a negative ARC (nothing concave)",
+    "rfi_guy": "no face is steeper than 45 degrees (gamma divides by their summed elevation)",
+    "rrate_below_median": "the crown has no relief (all its faces at one elevation)",
+}
+
+#: Record keys of doolkit's unit-dependent metrics that are lengths (1) or areas (2).
+_LENGTH_POWER = {
+    "area2d": 2,
+    "area2d_convex": 2,
+    "hypso_height": 1,
+    "hypso_length": 1,
+    "hypso_width": 1,
+}
+
+#: What a row says of angularity measured without the mesh's unit.
+_ANGULARITY_UNIT = (
+    "angularity: doolkit's angularity depends on the mesh's unit; measured as if in millimetres "
+    "(give the unit: unit='mm' if it is)"
+)
+
+
+def _finite(metric: str, values: dict) -> tuple[dict, str | None]:
+    """`values` with each value that is not a finite number emptied and named in a warning.
+
+    Returns the values, and None; or, when the metric's first (headline)
+    value is not a finite number, all of them emptied and the reason (the
+    metric's error).
+    """
+    headline = METRIC_KEYS[metric][0] if metric in METRIC_KEYS else None
+    for key, value in values.items():
+        if isinstance(value, (float, np.floating)) and not math.isfinite(value):
+            why = _UNDEFINED.get(key)
+            if key == headline:
+                what = f"{float(value)!r} on this mesh" if why is None else f"undefined: {why}"
+                return dict.fromkeys(values), f"{key} is {what}"
+            why = f"it is {float(value)!r} on this mesh" if why is None else why
+            values[key] = None
+            warnings.warn(f"{metric}: {key} is empty: {why}", UserWarning, stacklevel=3)
+    return values, None
+
+
+def _in_millimetres(surface, options: TopographyOptions):
+    """The surface rescaled to millimetres for doolkit's unit-dependent metrics (or as it is)."""
+    if options.unit is None or options.unit == 1.0 or isinstance(surface, BaseException):
+        return surface
     try:
-        return prepare_surface(mesh, duplicates=options.duplicates)
+        return prepare_surface(
+            (surface.vertices * options.unit, surface.faces), duplicates=options.duplicates
+        )
+    except OSError:
+        raise
+    except Exception as exc:  # each metric names it
+        return exc
+
+
+def _in_mesh_units(values: dict, unit: float) -> dict:
+    """Lengths and areas measured in millimetres given back in the mesh's unit."""
+    for key, power in _LENGTH_POWER.items():
+        if values.get(key) is not None:
+            values[key] = values[key] / unit**power
+    return values
+
+
+def _prepared(mesh, options: TopographyOptions):
+    """The surface molaR's metrics share, or the reason it could not be prepared.
+
+    It is the surface ariaDNE measures: the mesh cleaned as ariaDNE cleans it
+    (small holes beside the open base filled, degenerate faces dropped), so
+    that every metric of a row measures the same triangles (with
+    ``duplicates="keep"``, and faces listed again, those as listed).  What
+    cleaning changed is warned about, for the row to say.
+    """
+    try:
+        listed = clean_listed(mesh)
+        if len(listed.faces) == 0:
+            if listed.cleaning.zero_area_faces == listed.cleaning.degenerate_faces:
+                raise ValueError("the mesh has no face of non-zero area")
+            raise ValueError("cleaning left the mesh empty: every face is of no height")
+        listed_mesh = trimesh.Trimesh(listed.vertices, listed.faces, process=False)
+        surface = prepare_surface(listed_mesh, duplicates=options.duplicates)
     except OSError:
         raise
     except Exception as exc:  # each metric names it (see _errors: ours, or an internal error)
         return exc
+    for note in listed.cleaning.notes(duplicates=False):  # prepare_surface names repeats
+        warnings.warn(note, UserWarning, stacklevel=3)
+    return surface
 
 
 def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOptions, progress):
@@ -296,10 +401,13 @@ def _doolkit_base(surface) -> dict:
     """doolkit's first columns: the counts and 3D area of the mesh its metrics measured."""
     if isinstance(surface, BaseException):
         return dict.fromkeys(DOOLKIT_BASE_KEYS)
+    area = float(surface.single_precision_areas().sum())
+    if not math.isfinite(area):
+        warnings.warn(f"area3d is empty: the computation gave {area!r}", UserWarning, stacklevel=3)
     return {
         "n_vertices": len(surface.vertices),
         "n_faces": len(surface.faces),
-        "area3d": float(surface.single_precision_areas().sum()),
+        "area3d": area if math.isfinite(area) else None,
     }
 
 
@@ -337,6 +445,9 @@ def measure_mesh(
     if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
         mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
     surface = _prepared(mesh, options) if metrics != ("ariadne",) else None
+    millimetres = surface
+    if set(UNIT_DEPENDENT).intersection(metrics):
+        millimetres = _in_millimetres(surface, options)
     record: dict = {}
     results: dict = {}
     errors: dict = {}
@@ -347,6 +458,8 @@ def measure_mesh(
         if metric != "ariadne" and progress is not None:
             progress(metric)
         given = mesh if metric == "ariadne" else surface
+        if metric in UNIT_DEPENDENT:
+            given = millimetres
         try:
             result = _compute(metric, given, ariadne_options, options, progress)
         except OSError:
@@ -359,11 +472,24 @@ def measure_mesh(
             if metric == "ariadne":  # its settings columns are still the settings
                 record.update(ariadne_options)
             continue
+        values, undefined = _finite(metric, _values(metric, result))
+        if undefined is not None:  # the headline value is not a number: the metric failed
+            errors[metric] = undefined
+            record.update(values)
+            continue
+        if metric in UNIT_DEPENDENT and options.unit is not None:
+            values = _in_mesh_units(values, options.unit)
+        elif metric == "angularity":
+            warnings.warn(_ANGULARITY_UNIT, UnitWarning, stacklevel=2)
         results[metric] = result
-        record.update(_values(metric, result))
+        record.update(values)
         if metric in ORIENTED and "orientation" not in record:
             record["orientation"] = str(result.orientation)
     if ORIENTED.intersection(metrics):
         record.setdefault("orientation", None)
+    if surface is None and "ariadne" in results:  # ariaDNE alone: what its cleaning changed
+        cleaning = results["ariadne"].mesh.metadata.get("cleaning")
+        for note in cleaning.notes() if cleaning is not None else ():
+            warnings.warn(note, UserWarning, stacklevel=2)
     record.update(options.settings(metrics))
     return Measurement(record, results, errors, metrics)

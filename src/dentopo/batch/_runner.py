@@ -451,9 +451,33 @@ def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
     hex digits the label holds), or both none: a row measured as read is
     not reused for a prepared run, nor the other way round.
     """
-    done = set()
+    reusable = _reusable(settings)
+    return {os.path.abspath(r["file"]) for r in previous if reusable(r) and r.get("file")}
+
+
+def relabel_resumed(previous: Iterable[dict], settings: Settings) -> list[dict]:
+    """`previous`, each row `settings` could reuse labelled with this run's protocol.
+
+    Rows are reused for the same protocol digest (:func:`resumable_files`): the
+    digest covers every step, the name nothing that is computed.  A protocol
+    renamed since keeps its rows, under its new name, so that a table never
+    names one protocol two ways (the report groups and finds protocols by the
+    label).  Changed rows are copies; those passed in are untouched.
+    """
+    label = settings.protocol
+    reusable = _reusable(settings)
+    return [
+        {**r, PROTOCOL_KEY: label}
+        if label is not None and r.get(PROTOCOL_KEY) != label and reusable(r)
+        else r
+        for r in previous
+    ]
+
+
+def _reusable(settings: Settings) -> Callable[[dict], bool]:
+    """Whether a row holds what `settings` computes (see :func:`resumable_files`)."""
     if settings.geometry is not None:
-        return done
+        return lambda record: False
     digest = None if settings.prepare is None else settings.prepare.digest[:12]
     wanted = dict(settings.topography.settings(settings.metrics))
     if "ariadne" in settings.metrics:
@@ -467,16 +491,16 @@ def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
         if key not in ARIADNE_OPTIONS
     ]
     values += [rotation_key(degrees) for degrees in settings.rotations()]
-    for record in previous:
-        same = (
+
+    def reusable(record: dict) -> bool:
+        return (
             record.get("status") == "ok"
             and all(record.get(name) == value for name, value in wanted.items())
             and all(record.get(key) is not None for key in values)
             and protocol_digest(record.get(PROTOCOL_KEY)) == digest
         )
-        if same and record.get("file"):
-            done.add(os.path.abspath(record["file"]))
-    return done
+
+    return reusable
 
 
 def protocol_digest(label) -> str | None:
@@ -600,6 +624,7 @@ def make_settings(
     orient: str = "auto",
     duplicates: str = "drop",
     prepare=None,
+    unit=None,
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
 
@@ -642,6 +667,7 @@ def make_settings(
             arc_range=arc_range,
             orient=check_orient(orient),
             duplicates=duplicates,
+            unit=unit,
         ),
         prepare=None if prepare is None else _check_protocol(prepare),
     )
@@ -690,6 +716,7 @@ def compute_batch(
     orient: str = "auto",
     duplicates: str = "drop",
     prepare=None,
+    unit=None,
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -750,6 +777,14 @@ def compute_batch(
         cleaning and the ``faces`` column count them) or as listed by molaR's
         metrics (``"keep"``, molaR's behaviour); warned about either way (see
         :func:`dentopo.topography.prepare_surface`).
+    unit : str, float or None, default None
+        The meshes' length unit (``"um"``, ``"mm"``, ``"cm"``, ``"m"``, ``"in"``
+        or millimetres per unit): doolkit's metrics whose definitions assume
+        millimetres (angularity, relief index, doolkit's ARC, shape index,
+        footprint, hypsodonty) are measured on the crown in millimetres, their
+        lengths and areas given back in the mesh's unit.  None: taken as
+        millimetres, and the rows warn where that matters (see
+        :class:`dentopo.batch.TopographyOptions`).
     prepare : Protocol, str or path-like, optional
         A preparation protocol (a :class:`dentopo.Protocol`, the name of a
         shipped one, see :func:`dentopo.prepare.named_protocols`, or a TOML
@@ -855,6 +890,7 @@ def compute_batch(
         orient=orient,
         duplicates=duplicates,
         prepare=prepare,
+        unit=unit,
     )
     check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):
@@ -869,6 +905,7 @@ def compute_batch(
         else:
             previous = [dict(r) for r in resume_from]
     done = resumable_files(previous, settings)
+    previous = relabel_resumed(previous, settings)
     todo = [f for f in found.files if os.path.abspath(f) not in done]
 
     tasks = plan_batch(

@@ -41,6 +41,7 @@ from ..batch import (
     merge_records,
     plan_batch,
     planned_per_vertex_files,
+    relabel_resumed,
     replaced_message,
     replaced_per_vertex_files,
     resumable_files,
@@ -218,14 +219,18 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help="RFI: find molaR's smallest valid alpha, starting from --alpha (molaR's findAlpha)",
     )
     topo.add_argument(
-        "--opcr-steps", type=int, default=8, metavar="N", help="OPCR's rotations (default 8)"
+        "--opcr-steps",
+        type=int,
+        default=8,
+        metavar="N",
+        help="OPCR's rotations, 1 to 360 (default 8)",
     )
     topo.add_argument(
         "--opcr-step",
         type=float,
         default=5.625,
         metavar="DEGREES",
-        help="OPCR's rotation step (default 5.625)",
+        help="OPCR's rotation step, above 0 and at most 360/N (default 5.625)",
     )
     topo.add_argument(
         "--min-faces",
@@ -247,7 +252,8 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         type=float,
         default=0.1,
         metavar="PERCENT",
-        help="classic DNE: the highest energies discarded, percent (default 0.1, molaR's)",
+        help="classic DNE: the highest energies discarded, percent in [0, 50] "
+        "(default 0.1, molaR's)",
     )
     topo.add_argument(
         "--dne-boundary",
@@ -298,6 +304,15 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help="faces listed more than once: drop (default: each triangle measured once, as "
         "ariaDNE and the faces column count it) or keep (molaR's: measured as listed); "
         "warned about either way",
+    )
+    topo.add_argument(
+        "--unit",
+        metavar="UNIT",
+        help="the meshes' length unit: um, mm, cm, m, in, or millimetres per unit (0.02). "
+        "doolkit's definitions assume millimetres: its angularity, relief index, ARC, shape "
+        "index, footprint and hypsodonty are measured on the crown in millimetres (lengths and "
+        "areas given back in the mesh's unit). Default: coordinates taken as millimetres, "
+        "and the rows warn where that matters",
     )
     compute.add_argument(
         "--geometry",
@@ -826,6 +841,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             orient=args.orient,
             duplicates=args.duplicates,
             prepare=args.prepare,
+            unit=args.unit,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))
@@ -1083,7 +1099,9 @@ def _write(
                 previous = read_table(args.output)
             except (OSError, ValueError):
                 previous = []
-    records = merge_records(previous, new)
+    relabelled = relabel_resumed(previous, settings)  # a protocol renamed since
+    renamed = any(row is not was for row, was in zip(relabelled, previous, strict=True))
+    records = merge_records(relabelled, new)
     mine = {os.path.abspath(f) for f in files}
     statuses = [r["status"] for r in records if os.path.abspath(r["file"]) in mine]
     failed = sum(status != "ok" for status in statuses)  # partial rows too: a metric is missing
@@ -1099,7 +1117,12 @@ def _write(
         sys.stdout.flush()
     elif output is not None and not new and interrupted is not None:
         output.discard_journal()  # nothing done, nothing to write
-    elif output is not None and not computed and os.path.exists(args.output):
+    elif (
+        output is not None
+        and not computed
+        and os.path.exists(args.output)
+        and (tasks or not renamed)  # every file done, a protocol renamed: written anew
+    ):
         if tasks:  # every file failed (or none was reached): keep the old table as it is
             _say(f"no mesh was computed (every file failed): {args.output} left as it was")
         elif not args.quiet:

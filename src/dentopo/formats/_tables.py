@@ -52,6 +52,7 @@ from ..topography import (
     DOOLKIT_ROTATION_KEYS,
     METRICS,
     ORIENTED,
+    UNIT_DEPENDENT,
     check_metrics,
     rotation_key,
 )
@@ -94,6 +95,9 @@ SETTING_KEYS = {
     "opcr": ("opcr_steps", "opcr_step", "min_faces", "min_area"),
     "opc": ("min_faces", "min_area"),
     "arc": ("arc_boundary", "arc_range_low", "arc_range_high"),
+    # doolkit's metrics whose definitions assume millimetres: the meshes' unit, if given
+    # (millimetres per unit; empty: taken as millimetres)
+    **dict.fromkeys(UNIT_DEPENDENT, ("mm_per_unit",)),
 }
 #: Columns of the metrics that assume the crown points to +z: what was found and done, and
 #: the ``orient`` setting.

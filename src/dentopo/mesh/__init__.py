@@ -17,8 +17,11 @@ is the bottom layer.
 from ._faces import first_faces
 from ._ply import read_ply
 from ._prepare import (
+    Cleaning,
+    Listed,
     PreparedMesh,
     clean,
+    clean_listed,
     prepare,
     vertex_areas,
     vertex_normals,
@@ -37,11 +40,14 @@ from ._topology import boundary_edges, close_holes, orient_consistently, outward
 __all__ = [
     "DEGENERATE_HEIGHT",
     "MERGE_SPACING",
+    "Cleaning",
+    "Listed",
     "PreparedMesh",
     "as_arrays",
     "boundary_edges",
     "check_geometry",
     "clean",
+    "clean_listed",
     "close_holes",
     "first_faces",
     "length_scale",

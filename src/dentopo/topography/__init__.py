@@ -78,6 +78,7 @@ from ._parameters import (
     check_finite,
     check_int,
     check_min_area,
+    check_opcr_options,
 )
 from ._relief import (
     HYPSODONTY_FIELDS,
@@ -113,6 +114,7 @@ from ._surface import (
     molar_scale,
     prepare_surface,
 )
+from ._units import UNIT_DEPENDENT, UNITS, UnitWarning, millimetres_per_unit
 
 __all__ = [
     "ALIASES",
@@ -145,6 +147,8 @@ __all__ = [
     "RFI_FIELDS",
     "SHAPE_INDEX_FIELDS",
     "SLOPE_FIELDS",
+    "UNITS",
+    "UNIT_DEPENDENT",
     "ARCResult",
     "AlphaAdjustmentError",
     "AngularityResult",
@@ -169,6 +173,7 @@ __all__ = [
     "ShapeIndexResult",
     "SlopeResult",
     "Surface",
+    "UnitWarning",
     "angularity",
     "arc",
     "check_alpha",
@@ -181,6 +186,7 @@ __all__ = [
     "check_int",
     "check_metrics",
     "check_min_area",
+    "check_opcr_options",
     "check_orient",
     "classic_dne",
     "concave_hull",
@@ -197,6 +203,7 @@ __all__ = [
     "hypsodonty",
     "inclination",
     "metric_names",
+    "millimetres_per_unit",
     "molar_face_areas",
     "molar_scale",
     "opc",

@@ -33,8 +33,7 @@ class AngularityResult:
     Attributes
     ----------
     angularity_mean : float
-        Mean of ``face_angularity`` over all faces (unweighted); NaN if a
-        face of the new surface is degenerate (as doolkit's).
+        Mean of ``face_angularity`` over all faces (unweighted).
     vertices, faces : int
         Vertex and face counts of the mesh used.
     vertex_slope : (n,) float64
@@ -110,7 +109,9 @@ def angularity(mesh) -> AngularityResult:
 
     Orientation-free (slopes are folded: turning the crown over changes
     nothing) and independent of translation and vertex or face order, but
-    **scale dependent**: x and y are lengths while the new z is in degrees.
+    **scale dependent**: x and y are lengths while the new z is in degrees,
+    so doolkit's value is that of the crown in millimetres, its unit (a batch
+    given the mesh's unit measures it so: :mod:`dentopo.topography._units`).
 
     Parameters
     ----------
@@ -125,7 +126,9 @@ def angularity(mesh) -> AngularityResult:
     Raises
     ------
     TypeError, ValueError
-        For an unusable mesh.
+        For an unusable mesh; ValueError when a face of the new surface has
+        no area (doolkit's mean is NaN then: a vertical wall, whose faces'
+        footprint is a line and whose vertices all have slope 90).
 
     References
     ----------
@@ -149,6 +152,13 @@ def angularity(mesh) -> AngularityResult:
     vertex_slope = np.empty(len(v32))
     per_face = np.empty(len(faces))
     _angularity(v32, faces, normals32, vertex_slope, per_face)
+    flat = int(np.isnan(per_face).sum())
+    if flat:
+        raise ValueError(
+            f"angularity is undefined: {flat} of {len(faces)} faces have no area on doolkit's "
+            "slope surface (x, y and each vertex's slope as z), where doolkit gives NaN: their "
+            "x-y footprint is a line and their vertices' slopes are equal (a vertical wall)"
+        )
     return AngularityResult(
         angularity_mean=float(per_face.mean()),
         vertices=len(surface.vertices),

@@ -21,7 +21,7 @@ import numpy as np
 import trimesh
 
 from .._html_repr import result_html
-from . import _vcg
+from . import _units, _vcg
 from ._surface import molar_face_areas, molar_scale, prepare_surface
 
 #: Scalar fields of molaR's ARC, in the order of output tables.
@@ -168,10 +168,41 @@ def _check_boundary(boundary) -> str:
 
 
 def _face_curvature(vertices32: np.ndarray, faces: np.ndarray, normals32=None) -> np.ndarray:
+    return _counted_face_curvature(vertices32, faces, normals32)[0]
+
+
+def _counted_face_curvature(vertices32: np.ndarray, faces: np.ndarray, normals32=None):
+    """Each face's curvature, and how many vertices got 0 for an area below float32's epsilon."""
     if normals32 is None:
         normals32 = _vcg.vertex_normals(vertices32, faces)
-    values = _vcg.mean_curvature(vertices32, faces, normals32)
-    return _vcg.face_max(values, faces).astype(np.float64)
+    values, small = _vcg.mean_curvature(vertices32, faces, normals32, counted=True)
+    return _vcg.face_max(values, faces).astype(np.float64), small
+
+
+#: doolkit's ARC is refused when at least this fraction of the vertices is below the epsilon.
+MEANINGLESS = 0.5
+
+
+def _check_small_areas(small: int, vertices: int, surface) -> None:
+    """doolkit's ARC where vertices lost their curvature to float32's epsilon: said, or refused.
+
+    The VCG curvature is 0 at a vertex whose mixed area is at most float32's
+    epsilon (about 1.2e-7 square units): nothing at ordinary scales in
+    millimetres, every vertex of a crown a few millimetres long in metres.
+    """
+    if small == 0:
+        return
+    share = small / vertices
+    size = float(np.ptp(surface.vertices, axis=0).max())
+    what = (
+        f"{small} of {vertices} vertices ({share:.1%}) have a mixed area at most float32's "
+        f"epsilon ({_vcg.EPS32:.2g} square units), where doolkit's curvature is 0 (the crown "
+        f"is {size:.3g} units across)"
+    )
+    if share >= MEANINGLESS:
+        raise ValueError(f"doolkit's ARC is meaningless at this scale: {what}; {_units.FIX}")
+    if share > _units.MATERIAL:
+        _units.warn("doolkit_arc", what, stacklevel=4)
 
 
 def _means(values: np.ndarray) -> tuple[float, float, float]:
@@ -295,7 +326,12 @@ def doolkit_arc(mesh, *, range=(0.01, 0.99)) -> DoolkitARCResult:
 
     The result does not depend on translation (up to float32 rounding) or on
     vertex and face order; it is scale dependent only through float32
-    rounding (curvature times ``sqrt(A3)`` is scale free).
+    (curvature times ``sqrt(A3)`` is scale free), above all its epsilon:
+    a vertex whose mixed area is at most 1.2e-7 square units gets curvature
+    0, which is nothing in millimetres (doolkit's unit) and every vertex of
+    a crown measured in metres.  More than 0.5 % of the vertices below it is
+    warned about (:class:`dentopo.topography.UnitWarning`); half or more is
+    an error.
 
     Parameters
     ----------
@@ -311,7 +347,14 @@ def doolkit_arc(mesh, *, range=(0.01, 0.99)) -> DoolkitARCResult:
     Raises
     ------
     TypeError, ValueError
-        For an unusable mesh or `range`.
+        For an unusable mesh or `range`; ValueError when half or more of the
+        vertices have a mixed area below float32's epsilon (a crown too small
+        in its unit: measure it in millimetres).
+
+    Warns
+    -----
+    UnitWarning
+        When more than 0.5 % of the vertices do.
 
     References
     ----------
@@ -331,7 +374,8 @@ def doolkit_arc(mesh, *, range=(0.01, 0.99)) -> DoolkitARCResult:
     surface = prepare_surface(mesh)
     faces = surface.faces
     v32, normals32 = _vcg.surface_normals32(surface)
-    values = _face_curvature(v32, faces, normals32)
+    values, small = _counted_face_curvature(v32, faces, normals32)
+    _check_small_areas(small, len(v32), surface)
     at_border = _vcg.border_faces(surface, "vertex")
     values[at_border] = 0.0
     if quantiles:

@@ -20,7 +20,7 @@ import trimesh
 from .._html_repr import result_html
 from . import _kernels
 from ._orientation import Orientation, check_orient
-from ._parameters import BOUNDARY_RULES, check_choice
+from ._parameters import BOUNDARY_RULES, check_choice, check_outliers
 from ._surface import Surface, molar_scale, prepare_surface
 
 BOUNDARY_MODES = BOUNDARY_RULES
@@ -140,6 +140,33 @@ def _check_real(name: str, value, *, low: float, high: float) -> float:
     if not (np.isfinite(value) and low <= value <= high):
         raise ValueError(f"{name} must lie in [{low}, {high}]; got {value!r}")
     return value
+
+
+def _check_measured(energy, at_boundary, excluded, boundary: str, outliers: float) -> None:
+    """Raise a ValueError if the exclusions leave nothing to measure (DNE would be 0.0).
+
+    Either every face is excluded, or every face with energy is: the outlier cut
+    took them all (the boundary faces' zeros count among the densities it ranks).
+    A surface whose faces have no energy (a flat plate) measures 0.0, rightly.
+    """
+    m = len(energy)
+    if not excluded.all() and (energy[~excluded] > 0).any():
+        return
+    if not (energy[~at_boundary] > 0).any() and not excluded.all():
+        return  # no energy anywhere the boundary rule leaves: DNE is 0.0
+    border = int(np.count_nonzero(at_boundary))
+    left = m - border
+    what = f"{border} of its {m} faces are boundary faces ({boundary} rule)"
+    if left == 0:
+        raise ValueError(
+            f"classic DNE has no face to measure: {what}, which it excludes; choose "
+            "another boundary rule (dne_boundary), or measure a larger surface"
+        )
+    raise ValueError(
+        f"classic DNE has no face to measure: {what}, and discarding the highest "
+        f"{outliers:g}% of the energies as outliers discards the other {left} faces' energy; "
+        "choose fewer outliers (dne_outliers)"
+    )
 
 
 def energy_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -280,7 +307,9 @@ def classic_dne(
         metrics (:func:`dentopo.topography.prepare_surface`; measured as
         cleaned, never turned).  Never modified.
     outliers : float, default 0.1
-        Percentage of the highest energy densities discarded, in [0, 100].
+        Percentage of the highest energy densities discarded, in [0, 50]: outliers are
+        at most half the faces.  If the boundary rule and the outliers leave no face
+        with energy to measure (on a surface that has some), a ValueError says so.
     kappa : float, default 0.0
         Threshold on the face curvature value between concave (``<=``) and
         convex (``>``), on molaR's rescaled mesh.
@@ -334,7 +363,7 @@ def classic_dne(
     >>> round(result.dne, 1)  # 8 pi = 25.13 for a sphere, less the top 0.1 % of faces
     25.0
     """
-    outliers = _check_real("outliers", outliers, low=0.0, high=100.0)
+    outliers = check_outliers("outliers", outliers)
     kappa = _check_real("kappa", kappa, low=-np.inf, high=np.inf)
     boundary = check_choice("boundary", boundary, BOUNDARY_MODES)
     outlier_mode = check_choice("outlier_mode", outlier_mode, OUTLIER_MODES)
@@ -360,6 +389,7 @@ def classic_dne(
             q = np.quantile(kept[group], level)  # numpy "linear" == R type 7
             outlier |= group & (kept > q)
     excluded = at_boundary | outlier
+    _check_measured(energy, at_boundary, excluded, boundary, outliers)
     face_dne = np.where(excluded, 0.0, energy * area_scaled)
 
     face_area = surface.area.copy()  # the result's own

@@ -26,7 +26,7 @@ import numpy as np
 
 from .._html_repr import result_html
 from .._jit import njit
-from . import _concaveman
+from . import _concaveman, _units
 from ._orientation import Orientation, check_orient
 from ._surface import prepare_surface
 
@@ -69,6 +69,12 @@ class FootprintResult:
     orientation : Orientation or None
         What was found of the crown's orientation and whether it was turned
         (``orient="auto"``); None with ``orient="as-is"``, which does not look.
+    rounding : float
+        How much doolkit's rounding of the coordinates (4 decimals, concave
+        hull) can move `area`, relative: the ring's length times the largest
+        distance a point moved, over the area (first order; 0 for the convex
+        hull, infinite for a footprint of no area).  Large where the crown is
+        small in its unit: doolkit assumes millimetres.
     """
 
     area: float
@@ -79,6 +85,7 @@ class FootprintResult:
     ring: np.ndarray = field(repr=False, compare=False)
     ring_vertices: np.ndarray = field(repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
+    rounding: float = field(default=0.0, compare=False)
 
     def to_dict(self) -> dict:
         """The table field: ``{"area2d": area}`` (concave) or ``{"area2d_convex": area}``."""
@@ -371,6 +378,12 @@ def footprint_area(mesh, *, hull: str = "concave", orient: str = "auto") -> Foot
     TypeError, ValueError
         For an unusable mesh or parameter.
 
+    Warns
+    -----
+    UnitWarning
+        When doolkit's rounding can move the concave area by more than 0.5 %
+        (``rounding``): a crown small in its unit (doolkit assumes millimetres).
+
     References
     ----------
     Thiery G., Gillet G., Lazzari V., Merceron G., Guy F. (2017). Was
@@ -385,6 +398,14 @@ def footprint_area(mesh, *, hull: str = "concave", orient: str = "auto") -> Foot
     >>> footprint_area(box).area, footprint_area(box, hull="convex").area
     (6.0, 6.0)
     """
+    result = footprint_result(mesh, hull, orient)
+    if result.rounding > _units.MATERIAL:
+        _units.warn("footprint", rounding_text(result, "area2d"))
+    return result
+
+
+def footprint_result(mesh, hull: str, orient: str) -> FootprintResult:
+    """:func:`footprint_area` without its warning (for the relief indices, which say their own)."""
     hull = check_hull(hull)
     orient = check_orient(orient)
     surface = prepare_surface(mesh, orient=None if orient == "as-is" else orient)
@@ -392,12 +413,41 @@ def footprint_area(mesh, *, hull: str = "concave", orient: str = "auto") -> Foot
     return surface._cached(key, lambda: _footprint(surface, hull))
 
 
+def rounding_text(result: FootprintResult, what: str) -> str:
+    """What doolkit's 4-decimal rounding does to `what` on this footprint, for a warning."""
+    size = float(np.ptp(result.ring, axis=0).max()) if len(result.ring) else 0.0
+    if math.isinf(result.rounding):
+        moved = "gives it no area"
+    else:
+        moved = f"can move {what} by up to {result.rounding:.2%}"
+    return (
+        f"doolkit draws the footprint on coordinates rounded to {JSON_DIGITS} decimals, which "
+        f"{moved} on this crown ({size:.3g} units across)"
+    )
+
+
+def _rounding(shifted: np.ndarray, rounded: np.ndarray, ring: np.ndarray, area: float) -> float:
+    """First-order bound of the relative change of the ring's area due to the rounding."""
+    moved = np.abs(rounded - shifted).max(axis=0) if len(shifted) else np.zeros(2)
+    step = float(math.hypot(moved[0], moved[1]))
+    if step == 0.0:
+        return 0.0
+    if not area > 0.0:
+        return math.inf
+    points = shifted[ring]
+    length = float(np.hypot(*(np.roll(points, -1, axis=0) - points).T).sum())
+    return length * step / area
+
+
 def _footprint(surface, hull: str) -> FootprintResult:
     xy, first = surface._cached(("footprint", "xy"), lambda: unique_xy(surface.vertices))
+    rounding = 0.0
     if hull == "concave":
-        rounded = json_digits(xy - xy.min(axis=0))
+        shifted = xy - xy.min(axis=0)
+        rounded = json_digits(shifted)
         ring = _concave_ring(rounded, 2.0, 0.0)
         area = shoelace(rounded[ring])
+        rounding = _rounding(shifted, rounded, ring, area)
     else:
         ring = _convex_ring(xy)
         area = shoelace(xy[ring])
@@ -414,4 +464,5 @@ def _footprint(surface, hull: str) -> FootprintResult:
         ring=ring_xy,
         ring_vertices=ring_vertices,
         orientation=surface.orientation,
+        rounding=rounding,
     )

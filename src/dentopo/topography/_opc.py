@@ -24,7 +24,7 @@ from . import _kernels
 from ._metrics import rotation_key
 from ._metrics import rotations as opcr_rotations
 from ._orientation import Orientation, check_orient
-from ._parameters import check_finite, check_int, check_min_area
+from ._parameters import check_finite, check_int, check_min_area, check_opcr_options
 from ._surface import Surface, prepare_surface
 
 #: Number of aspect bins.
@@ -437,8 +437,7 @@ def opcr(
     >>> sorted(result.to_dict())[:3]
     ['opc_0', 'opc_11.25', 'opc_16.875']
     """
-    steps = check_int("steps", steps, low=1)
-    step = check_finite("step", step)
+    steps, step = check_opcr_options(steps, step, names=("steps", "step"))
     min_faces = check_int("min_faces", min_faces, low=0)
     min_area = check_min_area(min_area)
     surface = prepare_surface(mesh, orient=check_orient(orient))

@@ -69,11 +69,55 @@ def check_min_area(value) -> float:
     return value
 
 
+#: Classic DNE's outlier percentage: the highest energies discarded are outliers, a minority
+#: of the faces, so at most half (the cut at or above the median; at 100 no face was left and
+#: DNE was 0.0).  A mesh whose faces the cut leaves no energy to measure is an error of the
+#: metric, whatever the percentage (see :func:`dentopo.topography.classic_dne`).
+OUTLIERS_RANGE = (0.0, 50.0)
+
+
+def check_outliers(name: str, value) -> float:
+    """Classic DNE's outlier percentage, in :data:`OUTLIERS_RANGE`, as a float."""
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise TypeError(f"{name} must be a real number; got {type(value).__name__}")
+    value = float(value)
+    low, high = OUTLIERS_RANGE
+    if not (np.isfinite(value) and low <= value <= high):
+        raise ValueError(
+            f"{name} is a percentage and must lie in [{low:g}, {high:g}] (outliers are at most "
+            f"half the faces); got {value!r}"
+        )
+    return value
+
+
+#: OPCR's rotations: at most one a degree, all distinct and within one turn (``steps * step``
+#: at most 360 degrees; molaR's 8 of 5.625 make 45, one OPC direction bin).  A step of 0
+#: gave eight identical rotations (and eight columns of one name); a million steps, a table
+#: of a million columns built before any file was read.
+MAX_OPCR_STEPS = 360
+
+
+def check_opcr_options(steps, step, names=("opcr_steps", "opcr_step")) -> tuple[int, float]:
+    """OPCR's rotation count (1 to 360) and step (degrees, > 0, ``steps * step <= 360``)."""
+    if isinstance(steps, bool) or not isinstance(steps, Integral):
+        raise TypeError(f"{names[0]} must be an integer; got {type(steps).__name__}")
+    if not 1 <= steps <= MAX_OPCR_STEPS:
+        raise ValueError(f"{names[0]} must lie in [1, {MAX_OPCR_STEPS}]; got {steps!r}")
+    steps = int(steps)
+    if isinstance(step, bool) or not isinstance(step, Real):
+        raise TypeError(f"{names[1]} must be a real number; got {type(step).__name__}")
+    step = float(step)
+    if not (np.isfinite(step) and 0.0 < step <= 360.0 / steps):
+        raise ValueError(
+            f"{names[1]} must lie in (0, 360 / {names[0]}] degrees, here (0, {360.0 / steps:g}] "
+            f"(the rotations distinct, within one turn); got {step!r}"
+        )
+    return steps, step
+
+
 def check_classic_options(outliers, boundary, kappa) -> tuple[float, str, float]:
-    """Classic DNE's outlier percentage (in [0, 100]), boundary rule and kappa (finite)."""
-    outliers = check_finite("dne_outliers", outliers)
-    if not 0.0 <= outliers <= 100.0:
-        raise ValueError(f"dne_outliers is a percentage and must lie in [0, 100]; got {outliers!r}")
+    """Classic DNE's outlier percentage (in [0, 50]), boundary rule and kappa (finite)."""
+    outliers = check_outliers("dne_outliers", outliers)
     return (
         outliers,
         check_choice("dne_boundary", boundary, BOUNDARY_RULES),

@@ -21,8 +21,9 @@ import numpy as np
 import trimesh
 
 from .._html_repr import result_html
+from . import _units
 from ._angles import DoolkitMesh, doolkit_mesh
-from ._footprint import check_hull, footprint_area
+from ._footprint import check_hull, footprint_result, rounding_text
 from ._orientation import TURN, Orientation, check_orient
 
 #: Scalar fields, in the order of output tables.
@@ -362,13 +363,18 @@ def relief_index(mesh, *, hull: str = "concave", orient: str = "auto") -> Relief
     Raises
     ------
     TypeError, ValueError
-        For an unusable mesh or parameter.
+        For an unusable mesh or parameter; ValueError when the footprint has
+        zero area (the crown's vertices project onto a line).
 
     Warns
     -----
     UserWarning
         When the crown is measured pointing to -z (``orient="as-is"``), or
         when it is flat or closed (never turned).
+    UnitWarning
+        When doolkit's 4-decimal rounding of the footprint can move Ungar's
+        index by more than 0.5 % (a crown small in its unit: doolkit assumes
+        millimetres).
 
     References
     ----------
@@ -391,7 +397,16 @@ def relief_index(mesh, *, hull: str = "concave", orient: str = "auto") -> Relief
     dm = doolkit_mesh(mesh, check_orient(orient))
     dm.warn_orientation()
     area3d = dm.area3d
-    area2d = float(footprint_area((dm.vertices, dm.faces), hull=hull, orient="as-is").area)
+    footprint = footprint_result((dm.vertices, dm.faces), hull, "as-is")
+    area2d = float(footprint.area)
+    if not area2d > 0.0:
+        raise ValueError(
+            f"the footprint has zero area: the crown's vertices project onto a line (or a "
+            f"point) in x-y{_rounded_away(footprint)}, and Ungar's and Boyer's relief indices "
+            "divide by it"
+        )
+    if footprint.rounding > _units.MATERIAL:
+        _units.warn("relief_index", rounding_text(footprint, "rfi_ungar and rfi_boyer's ratio"))
     slope, elev = dm.slope, dm.elevation
     return ReliefIndexResult(
         rfi_ungar=area3d / area2d,
@@ -408,6 +423,13 @@ def relief_index(mesh, *, hull: str = "concave", orient: str = "auto") -> Relief
         mesh=dm.trimesh(),
         orientation=dm.orientation,
     )
+
+
+def _rounded_away(footprint) -> str:
+    """`` once rounded to 4 decimals`` if the unrounded ring has an area (a crown too small)."""
+    if footprint.hull == "concave" and math.isinf(footprint.rounding):
+        return " once doolkit rounds the coordinates to 4 decimals (a crown too small in its unit)"
+    return ""
 
 
 def crop(dm: DoolkitMesh, faces: np.ndarray) -> DoolkitMesh:
@@ -559,14 +581,32 @@ def hypsodonty(mesh) -> HypsodontyResult:
     """
     dm = doolkit_mesh(mesh)
     height, length, width = _extents(dm)
+    if not length > 0:
+        raise ValueError(
+            "the crown's length (its y extent) is 0: no hypsodonty (height over length)"
+        )
+    extents = {"hypso_height": height, "hypso_length": length, "hypso_width": width}
+    rounded = {key: r_round(value) for key, value in extents.items()}
+    _warn_rounding("hypsodonty", extents, rounded)
     return HypsodontyResult(
-        hypsodonty=r_round(height / length) if length > 0 else math.nan,
-        height=r_round(height),
-        length=r_round(length),
-        width=r_round(width),
+        hypsodonty=r_round(height / length),
+        height=rounded["hypso_height"],
+        length=rounded["hypso_length"],
+        width=rounded["hypso_width"],
         vertices=len(dm.vertices),
         faces=len(dm.faces),
     )
+
+
+def _warn_rounding(metric: str, exact: dict, rounded: dict) -> None:
+    """A UnitWarning naming each value doolkit's 2-decimal rounding moves by more than 0.5 %."""
+    said = [
+        f"{key} {exact[key]:.4g} becomes {rounded[key]:g}"
+        for key in exact
+        if _units.rounding_change(exact[key], rounded[key]) > _units.MATERIAL
+    ]
+    if said:
+        _units.warn(metric, f"doolkit rounds lengths to 2 decimals: {', '.join(said)}", 4)
 
 
 def shape_index(mesh) -> ShapeIndexResult:
@@ -604,9 +644,21 @@ def shape_index(mesh) -> ShapeIndexResult:
     """
     dm = doolkit_mesh(mesh)
     area = dm.origin_area3d
-    length = r_round(_extents(dm)[1])
+    exact = _extents(dm)[1]
+    length = r_round(exact)
     if not length > 0:
-        raise ValueError("the mesh's y extent rounds to 0 at 2 decimals: no shape index")
+        raise ValueError(
+            f"the mesh's y extent ({exact:.3g}) rounds to 0 at 2 decimals: no shape index; "
+            f"{_units.FIX}"
+        )
+    # the form factor and K move by the square of the length's rounding
+    change = abs((length / exact) ** 2 - 1.0)
+    if change > _units.MATERIAL:
+        _units.warn(
+            "shape_index",
+            f"doolkit rounds the crown's length (y extent) to 2 decimals: {exact:.4g} becomes "
+            f"{length:g}, which moves shape_formfactor by {change:.2%}",
+        )
     return ShapeIndexResult(
         formfactor=area / length**2,
         elongation=2.0 * math.sqrt(area) / (length * math.sqrt(math.pi)),

@@ -189,6 +189,7 @@ def _mean_curvature(v, faces, normals, cot, part, eps, out):  # pragma: no cover
     four = np.float32(4.0)
     area = np.zeros(n, dtype=np.float32)
     lap = np.zeros((n, 3), dtype=np.float32)
+    small = 0
     for f in range(faces.shape[0]):
         for k in range(3):
             i, j = (k + 1) % 3, (k + 2) % 3
@@ -200,14 +201,18 @@ def _mean_curvature(v, faces, normals, cot, part, eps, out):  # pragma: no cover
     for w in range(n):
         if area[w] <= eps:
             out[w] = np.float32(0.0)
+            small += 1
             continue
         lx, ly, lz = lap[w, 0], lap[w, 1], lap[w, 2]
         value = np.sqrt(lx * lx + ly * ly + lz * lz) / (four * area[w])
         along = lx * normals[w, 0] + ly * normals[w, 1] + lz * normals[w, 2]
         out[w] = value if along > np.float32(0.0) else -value
+    return small
 
 
-def mean_curvature(vertices32: np.ndarray, faces: np.ndarray, normals32: np.ndarray) -> np.ndarray:
+def mean_curvature(
+    vertices32: np.ndarray, faces: np.ndarray, normals32: np.ndarray, *, counted: bool = False
+):
     """Per-vertex discrete mean curvature in vcglib's single precision: (n,) float32.
 
     Meyer et al.'s estimator: ``H = |L| / (4 A)``, with ``L`` the cotangent
@@ -215,7 +220,8 @@ def mean_curvature(vertices32: np.ndarray, faces: np.ndarray, normals32: np.ndar
     Voronoi area (obtuse triangles split by area), so that a sphere of radius
     r gives 1/r; the sign is + where ``L`` points along the vertex normal
     `normals32`, and vertices with ``A <= float32 epsilon`` get 0.  See the
-    module's notes for the precision of each step.
+    module's notes for the precision of each step.  With `counted`, returns
+    ``(values, small)``, `small` the number of vertices set to 0 for their area.
     """
     v = readonly(np.ascontiguousarray(vertices32, dtype=np.float32))
     faces = readonly(np.ascontiguousarray(faces, dtype=np.int64))
@@ -224,8 +230,8 @@ def mean_curvature(vertices32: np.ndarray, faces: np.ndarray, normals32: np.ndar
     _face_terms(v, faces, cot, part)
     out = np.empty(len(v), dtype=np.float32)
     normals32 = readonly(np.ascontiguousarray(normals32, dtype=np.float32))
-    _mean_curvature(v, faces, normals32, cot, part, np.float32(EPS32), out)
-    return out
+    small = _mean_curvature(v, faces, normals32, cot, part, np.float32(EPS32), out)
+    return (out, int(small)) if counted else out
 
 
 @njit(cache=True)
