@@ -113,3 +113,38 @@ def test_the_preview_in_two_is_the_preparation_to_the_bit(changes):
     assert np.array_equal(rest.faces, whole.faces)
     names = [s.name for s in (*oriented.steps, *rest.steps)]
     assert names == [s.name for s in whole.steps]
+
+
+def test_a_rescan_of_an_unchanged_folder_only_walks_it_and_a_change_is_seen(tmp_path, monkeypatch):
+    import shutil
+
+    from dentopo.app import _folder
+    from dentopo.samples import sample_paths
+
+    sample = str(sample_paths()["tooth"])
+    shutil.copy(sample, tmp_path / "a.ply")
+    (tmp_path / "sub").mkdir()
+    shutil.copy(sample, tmp_path / "sub" / "b.ply")
+    output = tmp_path / "dentopo-app"
+    output.mkdir()
+    folder = _folder.Folder(str(tmp_path), str(output))
+    folder.close()  # no reading in the background: only the listing is tested
+    scans = []
+    finding = _folder.find_mesh_files
+    monkeypatch.setattr(_folder, "find_mesh_files", lambda p: scans.append(p) or finding(p))
+    (output / "written.png").write_bytes(b"the app's own files change all the time")
+    folder.refresh(0.0)
+    assert scans == []  # nothing changed: no scan
+    shutil.copy(sample, tmp_path / "sub" / "c.ply")
+    folder.refresh(0.0)
+    assert len(scans) == 1 and [e.path for e in folder.entries()] == [
+        "a.ply",
+        "sub/b.ply",
+        "sub/c.ply",
+    ]
+    with open(tmp_path / "a.ply", "ab") as stream:  # rewritten in place: same name, same folder
+        stream.write(b"\n")
+    folder.refresh(0.0)
+    assert len(scans) == 2 and folder.entries()[0].bytes == os.path.getsize(tmp_path / "a.ply")
+    folder.refresh(60.0)
+    assert len(scans) == 2

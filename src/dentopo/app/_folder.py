@@ -5,7 +5,11 @@ hidden entries and the tool's own outputs skipped), less the app's output folder
 and anything whose real path leaves the folder (a symlink out of it is not
 listed, and so never opened).  A mesh's group is its first subfolder (``""`` at
 the top), as the collection report groups by folder.  The folder is scanned
-again every few seconds while the page asks (a file copied in shows up).
+again every few seconds while the page asks (a file copied in shows up), but only
+if something changed: a walk of the tree with one ``stat`` per entry (inode,
+size, times) is compared with the last scan's (25 ms for 5,000 files where the
+scan, which resolves every path, takes 0.4-2 s).  A file whose name is not valid
+UTF-8 is listed with that error and not opened (the page could not name it back).
 
 One background thread reads each mesh in turn (:func:`dentopo.load_mesh`): its
 vertex and face counts, or the reason it cannot be read, and a small occlusal
@@ -20,6 +24,7 @@ from __future__ import annotations
 import hashlib
 import io
 import os
+import stat
 import threading
 import time
 import warnings
@@ -70,6 +75,18 @@ class MeshEntry:
         }
 
 
+#: The error of a mesh whose file name is not valid UTF-8.
+NOT_UNICODE = "its file name is not valid UTF-8 text: rename the file to open it here"
+
+
+def _is_unicode(text: str) -> bool:
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def group_of(path: str) -> str:
     """A mesh's group: its first folder below the app's folder, or ``""``."""
     head, _, rest = path.partition("/")
@@ -87,10 +104,42 @@ class Folder:
         self._thread: threading.Thread | None = None
         self._stop = threading.Event()
         self._scanned = 0.0
+        self._signature = b""
         self.scan()
+
+    def signature(self) -> bytes:
+        """A digest of the tree below the folder: each entry's name, inode, size and times.
+
+        Hidden entries and the output folder are left out, as the scan leaves them out; a
+        symlinked folder counts by its own times (its files are listed only if they lie in the
+        folder, where they are walked anyway).
+        """
+        digest = hashlib.blake2b(digest_size=16)
+        waiting = [self.root]
+        while waiting:
+            here = waiting.pop()
+            try:
+                with os.scandir(here) as found:
+                    items = sorted(found, key=lambda e: e.name)
+            except OSError as exc:
+                digest.update(f"{here}\0{exc.errno}\n".encode("utf-8", "surrogateescape"))
+                continue
+            for item in items:
+                if item.name.startswith(".") or item.path == self.output:
+                    continue
+                try:
+                    info = item.stat()
+                    key = (info.st_ino, info.st_size, info.st_mtime_ns, info.st_ctime_ns)
+                except OSError as exc:
+                    info, key = None, exc.errno
+                digest.update(f"{item.path}\0{key}\n".encode("utf-8", "surrogateescape"))
+                if info is not None and stat.S_ISDIR(info.st_mode) and not item.is_symlink():
+                    waiting.append(item.path)
+        return digest.digest()
 
     def scan(self) -> None:
         """List the meshes again (new files appear, removed ones go); inspect the new ones."""
+        signature = self.signature()  # before: a change made during the scan is seen next time
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # a format that cannot be read: not listed
             found = find_mesh_files([self.root]).files
@@ -111,15 +160,22 @@ class Folder:
                 entries[relative] = old
             else:
                 entries[relative] = MeshEntry(relative, real, group_of(relative), size)
+                if not _is_unicode(relative):
+                    entries[relative].error = NOT_UNICODE
+                    entries[relative].inspected = True
         with self._lock:
             self._entries = entries
             self._scanned = time.monotonic()
+            self._signature = signature
         self._start()
 
     def refresh(self, seconds: float = RESCAN_SECONDS) -> None:
-        """Scan again if the last scan is older than `seconds` (files added or removed show)."""
+        """Scan again if the last scan is older than `seconds` and the tree has changed."""
         if time.monotonic() - self._scanned > seconds:
-            self.scan()
+            if self.signature() == self._signature:
+                self._scanned = time.monotonic()
+            else:
+                self.scan()
 
     def entries(self) -> list[MeshEntry]:
         """The meshes, sorted by path."""

@@ -4,13 +4,22 @@ Starlette (a small, well-kept ASGI toolkit: routing, requests, responses and
 file serving, nothing more) under :class:`._security.Guard`.  Every handler is a
 few lines over :class:`._workspace.Workspace`; slow work (reading a mesh for a
 preview, writing an export) runs in a worker thread so the server keeps
-answering.  Errors are JSON ``{"error": message}`` with a 4xx status.
+answering.  Errors are JSON ``{"error": message}`` (the page shows the message):
+a 4xx for every bad request (the app's own refusals, the library's errors,
+which are ``ValueError`` subclasses, and a body that is not plain JSON: too
+deep, not UTF-8, a lone surrogate, NaN, Infinity or a number out of range), and
+as a last resort a 500 whose message is one line, never a traceback (that goes
+to the server's log).  JSON answers are gzipped when large and the browser
+takes gzip (the state of a 5,000-mesh folder: 700 kB, 60 kB gzipped).
 """
 
 from __future__ import annotations
 
+import gzip
 import html
 import json
+import logging
+import math
 import os
 from importlib import resources
 
@@ -26,6 +35,14 @@ from ._workspace import AppError, Workspace
 
 #: Largest request body accepted (the page sends small JSON; nothing is uploaded).
 MAX_BODY = 1 << 20
+#: Deepest nesting of a request's JSON (the page's is 3 deep).
+MAX_DEPTH = 32
+#: JSON answers larger than this are gzipped (when the browser takes gzip).
+GZIP_BYTES = 16 << 10
+#: Longest message of an unexpected error (one line; the traceback goes to the log).
+MAX_REASON = 300
+
+log = logging.getLogger(__name__)
 
 #: The page's assets: name -> (package file, MIME type).
 ASSETS = {
@@ -44,8 +61,62 @@ def _static(name: str) -> bytes:
     return resources.files("dentopo.app").joinpath("static", name).read_bytes()
 
 
+class JSON(JSONResponse):
+    """A JSON answer in ASCII: a name that is not valid UTF-8 (a lone surrogate) is escaped."""
+
+    def render(self, content) -> bytes:
+        return json.dumps(content, allow_nan=False, separators=(",", ":")).encode("ascii")
+
+
+def _json(request: Request, content, status: int = 200) -> Response:
+    """`content` as JSON, gzipped if large and the browser takes gzip."""
+    answer = JSON(content, status_code=status)
+    accepted = request.headers.get("accept-encoding", "")
+    if len(answer.body) > GZIP_BYTES and "gzip" in accepted.lower():
+        body = gzip.compress(answer.body, compresslevel=5, mtime=0)
+        headers = {"content-encoding": "gzip", "vary": "Accept-Encoding"}
+        return Response(body, status, headers=headers, media_type="application/json")
+    return answer
+
+
 def _error(message: str, status: int = 400) -> JSONResponse:
-    return JSONResponse({"error": message}, status_code=status)
+    return JSON({"error": message}, status_code=status)
+
+
+def _no_constant(name: str):
+    raise ValueError(f"{name} is not a number (send numbers only)")
+
+
+def _finite(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"the number {text[:40]} is too large")
+    return value
+
+
+def _check_plain(data) -> None:
+    """That `data` (a request's JSON) is at most :data:`MAX_DEPTH` deep and its texts Unicode."""
+    waiting = [(data, 1)]
+    while waiting:
+        item, depth = waiting.pop()
+        if isinstance(item, str):
+            items = (item,)
+        elif isinstance(item, (list, dict)):
+            if depth > MAX_DEPTH:
+                raise AppError(f"the request is nested too deeply (more than {MAX_DEPTH} levels)")
+            items = (*item, *item.values()) if isinstance(item, dict) else item
+            waiting.extend((x, depth + 1) for x in items if isinstance(x, (list, dict)))
+            items = [x for x in items if isinstance(x, str)]
+        else:
+            continue
+        for text in items:
+            try:
+                text.encode("utf-8")
+            except UnicodeEncodeError as exc:
+                bad = repr(text[exc.start])  # '\\udc80'
+                raise AppError(
+                    f"the request holds a lone surrogate ({bad[1:-1]}): texts must be Unicode"
+                ) from None
 
 
 async def _json_body(request: Request):
@@ -60,9 +131,23 @@ async def _json_body(request: Request):
     if request.headers.get("content-type", "").split(";")[0].strip() != "application/json":
         raise AppError("send JSON (Content-Type: application/json)", 415)
     try:
-        return json.loads(body or b"{}")
-    except ValueError:
-        raise AppError("the request is not valid JSON") from None
+        text = (body or b"{}").decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise AppError(f"the request is not UTF-8 text (byte {exc.start})") from None
+    try:
+        data = json.loads(text, parse_constant=_no_constant, parse_float=_finite)
+    except RecursionError:
+        raise AppError(f"the request is nested too deeply (more than {MAX_DEPTH} levels)") from None
+    except ValueError as exc:  # not JSON, NaN or Infinity, a number out of range
+        raise AppError(f"the request is not valid JSON: {exc}") from None
+    _check_plain(data)
+    return data
+
+
+def _reason(exc: BaseException) -> str:
+    """An exception's message on one short line (its type if it has none)."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text if len(text) <= MAX_REASON else text[: MAX_REASON - 1] + "\u2026"
 
 
 def build_app(
@@ -78,6 +163,13 @@ def build_app(
                 return _error(str(exc), exc.status)
             except PathRefusedError as exc:
                 return _error(f"refused: {exc}", 403)
+            except (ValueError, OverflowError) as exc:  # the library's errors: a bad request
+                return _error(_reason(exc))
+            except Exception as exc:  # a bug: a short reason the page shows, the rest logged
+                log.error(
+                    "dentopo app: %s %s failed", request.method, request.url.path, exc_info=True
+                )
+                return _error(f"the app failed ({_reason(exc)}): see the server's messages", 500)
 
         return endpoint
 
@@ -102,7 +194,7 @@ def build_app(
         return Response(_static(file), media_type=mime, headers=CACHED)
 
     async def state(request: Request):
-        return JSONResponse(await run_in_threadpool(workspace.state))
+        return _json(request, await run_in_threadpool(workspace.state))
 
     async def thumbnail(request: Request):
         entry = workspace.mesh(request.query_params.get("path"))
@@ -115,20 +207,20 @@ def build_app(
         if not isinstance(body, dict):
             raise AppError("send an object: {path, protocol}")
         result = await run_in_threadpool(workspace.preview, body.get("path"), body.get("protocol"))
-        return JSONResponse(result)
+        return _json(request, result)
 
     async def protocol(request: Request):
         body = await _json_body(request)
         if not isinstance(body, dict):
             raise AppError("send an object: {scope, path, protocol}")
+        if "prepare" in body and not isinstance(body["prepare"], bool):
+            raise AppError("prepare must be true or false")  # checked before anything is saved
         await run_in_threadpool(
             workspace.save_protocol, body.get("scope"), body.get("path"), body.get("protocol")
         )
         if "prepare" in body:
-            if not isinstance(body["prepare"], bool):
-                raise AppError("prepare must be true or false")
             workspace.set_prepares(body["prepare"])
-        return JSONResponse(await run_in_threadpool(workspace.state))
+        return _json(request, await run_in_threadpool(workspace.state))
 
     async def protocol_file(request: Request):
         relative = request.query_params.get("path")
@@ -136,9 +228,9 @@ def build_app(
             path, name = workspace.protocol_file, "protocol.toml"
         else:
             workspace.mesh(relative)
-            path = workspace.protocol_for(relative)[1]
+            path = workspace.protocol_path(relative)  # as it is, even if it does not read
             name = os.path.basename(relative) + ".toml"
-        if path is None or not os.path.exists(path):
+        if path is None or not os.path.isfile(path):
             return _error("no protocol saved yet", 404)
         return FileResponse(
             path,
@@ -150,15 +242,15 @@ def build_app(
     async def run(request: Request):
         if request.method == "POST":
             body = await _json_body(request)
-            return JSONResponse(await run_in_threadpool(workspace.start_run, body))
-        return JSONResponse(await run_in_threadpool(workspace.run_state))
+            return _json(request, await run_in_threadpool(workspace.start_run, body))
+        return _json(request, await run_in_threadpool(workspace.run_state))
 
     async def cancel(request: Request):
         await _json_body(request)
-        return JSONResponse(await run_in_threadpool(workspace.cancel_run))
+        return _json(request, await run_in_threadpool(workspace.cancel_run))
 
     async def results(request: Request):
-        return JSONResponse(await run_in_threadpool(workspace.results))
+        return _json(request, await run_in_threadpool(workspace.results))
 
     async def map_picture(request: Request):
         found = await run_in_threadpool(
@@ -171,7 +263,7 @@ def build_app(
                 lines = [line for line in found.log if line.strip()]
                 reason = lines[-1] if lines else "the picture could not be drawn"
                 return _error(reason, 422)
-            return JSONResponse({"state": "drawing"}, status_code=202)
+            return _json(request, {"state": "drawing"}, 202)
         return FileResponse(found, media_type="image/png")
 
     def started(start, state):
@@ -180,8 +272,8 @@ def build_app(
         async def endpoint(request: Request):
             if request.method == "POST":
                 await _json_body(request)  # unused, but checked like every body (JSON, small)
-                return JSONResponse(await run_in_threadpool(start))
-            return JSONResponse(state())
+                return _json(request, await run_in_threadpool(start))
+            return _json(request, state())
 
         return endpoint
 

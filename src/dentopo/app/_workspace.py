@@ -30,6 +30,11 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+try:  # Python 3.11+
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10 (tomli: a dependency there)
+    import tomli as tomllib
+
 from ..ariadne import (
     DISTANCE_TYPES,
     METHODS,
@@ -55,9 +60,9 @@ from ..prepare import DECIMATORS, SMOOTHERS, Protocol, ProtocolError, read_proto
 from ..report import pack_mesh
 from ..sign import SIGN_METHODS, check_sign_method
 from ..topography import GROUPS, METRICS, check_metrics
-from ._folder import Folder, MeshEntry, simplified
+from ._folder import NOT_UNICODE, Folder, MeshEntry, simplified
 from ._jobs import Job
-from ._security import PathRefusedError, inside
+from ._security import PathRefusedError, inside, relative_to
 
 #: The results table, in the output folder.
 TABLE = "results.csv"
@@ -122,6 +127,11 @@ class RunOptions:
         """Options from the page's JSON, every value checked (:class:`AppError` naming it)."""
         _check_fields(data, cls, "the run's options must be an object", "run option")
         values = {**cls().__dict__, **data}
+        metrics = values["metrics"]
+        if not isinstance(metrics, str) and not (
+            isinstance(metrics, (list, tuple)) and all(isinstance(m, str) for m in metrics)
+        ):
+            raise AppError(f"metrics must be a name or a list of names; got {metrics!r:.80}")
         # the library's own checks, as the command makes them (any case; molaR's and doolkit's
         # names and the sets of metrics expanded, in table order)
         checks = {
@@ -200,6 +210,7 @@ class Workspace:
         self.folder = Folder(self.root, self.output)
         self.table = os.path.join(self.output, TABLE)
         self._lock = threading.Lock()
+        self._protocol_files: dict[str, tuple] = {}  # path -> (its stat, Protocol or reason)
         self.run: Job | None = None
         self.run_files: list[str] = []
         self._finished: dict[str, dict] = {}
@@ -222,31 +233,56 @@ class Workspace:
 
     # -- protocols ------------------------------------------------------------------------------
 
-    def folder_protocol(self) -> Protocol | None:
-        return read_protocol(self.protocol_file) if os.path.exists(self.protocol_file) else None
+    def read_saved(self, path: str) -> Protocol:
+        """A saved protocol file, or :class:`AppError` (409) naming it and why it cannot be read.
 
-    def own_protocol(self, relative: str) -> Protocol | None:
-        path = self.own_protocol_file(relative)
-        return read_protocol(path) if os.path.exists(path) else None
+        The files are the app's, but an older version, a hand edit or a crash can leave one
+        that does not read: the page lists it with this reason and a run or export that would
+        use it is refused with it; the page's state never fails because of it.
+        """
+        problem = _file_problem(path, self._protocol_files)
+        if isinstance(problem, Protocol):
+            return problem
+        shown = relative_to(self.output, path)
+        raise AppError(
+            f"the saved protocol {shown} cannot be read: {problem} (apply a protocol again to "
+            "replace it, or remove it)",
+            409,
+        )
+
+    def protocol_path(self, relative: str) -> str | None:
+        """The file of the protocol a mesh is prepared with (its own, or the folder's), if any."""
+        own = self.own_protocol_file(relative)
+        if os.path.lexists(own):
+            return own
+        return self.protocol_file if os.path.lexists(self.protocol_file) else None
 
     def protocol_for(self, relative: str) -> tuple[Protocol | None, str | None]:
-        """The protocol a mesh is prepared with, and its file (its own, or the folder's)."""
-        own = self.own_protocol_file(relative)
-        if os.path.exists(own):
-            return read_protocol(own), own
-        if os.path.exists(self.protocol_file):
-            return read_protocol(self.protocol_file), self.protocol_file
-        return None, None
+        """The protocol a mesh is prepared with, and its file (AppError if it cannot be read)."""
+        path = self.protocol_path(relative)
+        return (None, None) if path is None else (self.read_saved(path), path)
+
+    def _own_protocols(self) -> dict[str, str]:
+        """Each mesh with its own protocol file: relative path -> the file (one walk)."""
+        found = {}
+        base = self._out("protocols")
+        for here, folders, names in os.walk(base):
+            folders.sort()
+            for name in names:
+                if name.endswith(".toml"):
+                    path = os.path.join(here, name)
+                    found[relative_to(base, path)[: -len(".toml")]] = path
+            for name in folders:  # a folder where a file should be is an unreadable protocol
+                if name.endswith(".toml"):
+                    path = os.path.join(here, name)
+                    found[relative_to(base, path)[: -len(".toml")]] = path
+        return found
 
     @property
     def prepares(self) -> bool:
         """Whether runs prepare each mesh with its protocol before measuring."""
-        path = self._out(".app", "prepare.json")
-        try:
-            with open(path, encoding="utf-8") as stream:
-                return bool(json.load(stream).get("prepare"))
-        except (OSError, ValueError):
-            return False
+        data = _read_json(self._out(".app", "prepare.json"))
+        return isinstance(data, dict) and data.get("prepare") is True
 
     def set_prepares(self, value: bool) -> None:
         text = json.dumps({"prepare": bool(value)})
@@ -268,8 +304,14 @@ class Workspace:
                 os.unlink(path)
             return
         protocol = protocol_from_json(data)
-        os.makedirs(os.path.dirname(path), exist_ok=True)
         text = protocol.to_toml()
+        try:  # what is saved must read back as it is: a file that does not stops every run
+            back = Protocol.from_mapping(tomllib.loads(text))
+        except (ValueError, TypeError) as exc:
+            raise AppError(f"this protocol cannot be saved: {exc}") from None
+        if back != protocol:
+            raise AppError("this protocol cannot be saved: it does not read back as it is")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
         atomic_write(path, lambda s: s.write(text))
 
     def mesh(self, relative) -> MeshEntry:
@@ -286,13 +328,27 @@ class Workspace:
     # -- the page's state -----------------------------------------------------------------------
 
     def state(self) -> dict:
+        """What the page shows.  Never fails because of a file: one that cannot be read is
+        listed with its reason (``protocol_error``, a mesh's ``protocol_error``)."""
         self.folder.refresh()
-        folder_protocol = self.folder_protocol()
+        folder_protocol = folder_error = None
+        if os.path.lexists(self.protocol_file):
+            try:
+                folder_protocol = self.read_saved(self.protocol_file)
+            except AppError as exc:
+                folder_error = str(exc)
+        own = self._own_protocols()
         meshes = []
         for entry in self.folder.entries():
             item = entry.to_json()
-            own = os.path.exists(self.own_protocol_file(entry.path))
-            item["protocol"] = "own" if own else ("folder" if folder_protocol else None)
+            if entry.path in own:  # (``protocol_error`` only when there is one: 5,000 nulls weigh)
+                item["protocol"] = "own"
+                try:
+                    self.read_saved(own[entry.path])
+                except AppError as exc:
+                    item["protocol_error"] = str(exc)
+            else:
+                item["protocol"] = "folder" if os.path.lexists(self.protocol_file) else None
             meshes.append(item)
         return {
             "folder": self.root,
@@ -303,6 +359,7 @@ class Workspace:
             "pending": self.folder.pending,
             "protocol": None if folder_protocol is None else folder_protocol.to_dict(),
             "protocol_label": None if folder_protocol is None else folder_protocol.label,
+            "protocol_error": folder_error,
             "prepare": self.prepares,
             "choices": {
                 "metrics": list(METRICS),
@@ -338,7 +395,16 @@ class Workspace:
         try:
             oriented, rest = prepared_in_two(mesh, protocol)
         except (ValueError, ProtocolError) as exc:
-            raise AppError(str(exc)) from None
+            raise AppError(str(exc), 422) from None
+        for made, steps in ((oriented, "cleaning and orienting"), (rest, "the protocol")):
+            if not np.isfinite(np.asarray(made.vertices)).all():  # never drawn, never sent as NaN
+                hint = (
+                    f" (the {protocol.smooth} smoothing diverges: a smaller step or fewer "
+                    "iterations)"
+                    if protocol.smooth is not None and made is rest
+                    else ""
+                )
+                raise AppError(f"{steps} made coordinates that are not finite{hint}", 422)
         rotation = np.asarray(oriented.transform)[:3, :3]
         found_up = rotation.T @ np.array([0.0, 0.0, 1.0])
         z = np.asarray(oriented.vertices)[:, 2]
@@ -367,10 +433,10 @@ class Workspace:
     # -- runs -----------------------------------------------------------------------------------
 
     def last_options(self) -> RunOptions:
+        """The last run's options (the defaults if none, or if their file cannot be read)."""
         try:
-            with open(self._out(".app", "run.json"), encoding="utf-8") as stream:
-                return RunOptions.from_json(json.load(stream))
-        except (OSError, ValueError):
+            return RunOptions.from_json(_read_json(self._out(".app", "run.json")))
+        except Exception:  # a file on disk is data: whatever is wrong with it, the defaults
             return RunOptions()
 
     def start_run(self, data) -> dict:
@@ -378,13 +444,13 @@ class Workspace:
         with self._lock:
             if self.run is not None and self.run.running():
                 raise AppError("a run is going: wait for it or cancel it", 409)
-            files = [e.path for e in self.folder.entries()]
+            files = [e.path for e in self.folder.entries() if e.error != NOT_UNICODE]
             if not files:
                 raise AppError("the folder holds no meshes")
             groups: dict[str | None, list[str]] = {}
             for relative in files:
                 path = self.protocol_for(relative)[1] if options.prepare else None
-                groups.setdefault(path, []).append(relative)
+                groups.setdefault(path, []).append(relative)  # (AppError: a file unreadable)
             commands = []
             for path, group in groups.items():
                 arguments = ["--output", self.table, "--resume", "--jobs", str(options.jobs)]
@@ -558,10 +624,10 @@ class Workspace:
             files += [os.path.join(here, n) for n in sorted(names) if n.endswith(".toml")]
         found: dict[str, str] = {}  # short digest -> the first file of that protocol
         for path in files:
-            try:
-                digest = read_protocol(path).digest[:12]
-            except (OSError, ValueError):
-                continue
+            protocol = _file_problem(path, self._protocol_files)
+            if not isinstance(protocol, Protocol):
+                continue  # not readable: the report is made without it
+            digest = protocol.digest[:12]
             if digest in digests:
                 found.setdefault(digest, path)
         return list(found.values())
@@ -580,6 +646,8 @@ class Workspace:
             # the top of its output folder, so each subfolder's go to that subfolder's
             groups: dict[tuple[str, str], list[str]] = {}
             for entry in self.folder.entries():
+                if entry.error == NOT_UNICODE:
+                    continue  # the page cannot name it, nor the table as the page does
                 path = self.protocol_for(entry.path)[1]
                 if path is not None:
                     where = os.path.dirname(entry.path)
@@ -632,6 +700,36 @@ class Workspace:
         for job in (self.run, self.report, self.export, *self.pictures.values()):
             if job is not None and job.running():
                 job.stop()
+
+
+def _file_problem(path: str, cache: dict) -> Protocol | str:
+    """The protocol in the file `path`, or why it cannot be read (kept while the file is)."""
+    try:
+        info = os.stat(path)
+        key = (info.st_ino, info.st_size, info.st_mtime_ns, info.st_ctime_ns)
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    known = cache.get(path)
+    if known is not None and known[0] == key:
+        return known[1]
+    try:
+        found: Protocol | str = read_protocol(path)
+    except OSError as exc:
+        found = exc.strerror or str(exc)
+    except Exception as exc:  # a file on disk is data: whatever its fault, it is a reason
+        found = " ".join(str(exc).split()) or type(exc).__name__
+        found = found.replace(f"protocol {path} ", "it ")
+    cache[path] = (key, found)
+    return found
+
+
+def _read_json(path: str):
+    """The JSON in the file `path`, or None if it cannot be read (missing, corrupt, too deep)."""
+    try:
+        with open(path, encoding="utf-8") as stream:
+            return json.load(stream)
+    except (OSError, ValueError, RecursionError):
+        return None
 
 
 def _column_order() -> list[str]:

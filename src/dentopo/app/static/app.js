@@ -90,6 +90,16 @@ async function postJSON(path, body) {
 }
 
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+/** Resolves once the page is visible (at once if it is). */
+const visible = () => new Promise((resolve) => {
+  if (!document.hidden) { resolve(); return; }
+  const seen = () => {
+    if (document.hidden) return;
+    document.removeEventListener("visibilitychange", seen);
+    resolve();
+  };
+  document.addEventListener("visibilitychange", seen);
+});
 
 /** Show a message to the reader (an API error, or an error of the page). */
 let messageTimer = 0;
@@ -214,9 +224,12 @@ function drawHeader(state) {
   $("version").textContent = state.version || "";
   $("table-path").textContent = state.table || "";
   const label = state.protocol_label || (state.protocol ? state.protocol.name : null);
-  $("protocol-summary").textContent = state.protocol
-    ? protocolWords(label || "custom", "Folder protocol") + " (used for every mesh without its own)."
-    : "No folder protocol: the meshes are measured as read (unless a mesh has its own).";
+  $("protocol-summary").textContent = state.protocol_error
+    ? "The folder protocol cannot be used: " + state.protocol_error
+    : state.protocol
+      ? protocolWords(label || "custom", "Folder protocol") + " (used for every mesh without its own)."
+      : "No folder protocol: the meshes are measured as read (unless a mesh has its own).";
+  $("protocol-summary").classList.toggle("error", Boolean(state.protocol_error));
 }
 
 function meshByPath(path) {
@@ -306,7 +319,8 @@ function fillCard(card, mesh) {
     el("div", { className: "name", text: name }),
     sizeLine,
     ...(mesh.error ? [el("div", { className: "error", text: mesh.error })] : []),
-    ...(mesh.protocol === "own" ? [el("span", { className: "badge", text: "own protocol" })] : []));
+    ...(mesh.protocol === "own" ? [el("span", { className: "badge", text: "own protocol" })] : []),
+    ...(mesh.protocol_error ? [el("div", { className: "error", text: mesh.protocol_error })] : []));
   card.classList.toggle("unreadable", Boolean(mesh.error));
   if (mesh.path === app.selected) drawSelectedHeader();
 }
@@ -485,11 +499,12 @@ async function selectMesh(path) {
   if (mesh.protocol === "own") {
     const own = await ownProtocol(path);
     if (path !== app.selected) return;
-    if (own) {
+    if (own && !mesh.protocol_error) {
       setForm(own);
     } else {
-      $("view-message").textContent = "This mesh has its own protocol (download it below); the "
-        + "form starts from the folder's protocol.";
+      $("view-message").textContent = (mesh.protocol_error ? mesh.protocol_error + " " : "")
+        + "This mesh has its own protocol (download it below); the form starts from the "
+        + "folder's protocol.";
     }
   }
   app.preview = null; app.oriented = null; app.prepared = null;
@@ -1246,6 +1261,7 @@ async function start() {
     let current = state;
     while (current.pending) {
       await sleep(1000);
+      await visible();  // a hidden tab asks for nothing
       current = await getJSON("/api/state");
       drawState(current);
     }
