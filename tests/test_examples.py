@@ -17,7 +17,9 @@ Each fenced block of a page is one test, named ``PAGE:LINE`` (the fence's line):
   tests/test_bridges.py.  Blocks of other languages (``text``, ``csv``, none) are
   not examples and are not collected.
 
-Every command must exit 0.  The blocks of one page run in page order in one
+Every command must exit 0, and print no traceback on stderr whatever its status:
+a script whose worker processes fail prints their tracebacks and may still exit
+0 (a report without pictures).  The blocks of one page run in page order in one
 working directory, so that a block can read what an earlier one wrote
 (``results.csv``, then the report); running one block alone (``-k``) first runs the
 blocks above it.  The directory holds the bundled sample meshes (``tooth.ply``,
@@ -76,6 +78,7 @@ _INSTALLS = re.compile(
     r"|^\s*R\s+CMD\s+INSTALL\b"
     r"|install\.packages\("
 )
+_TRACEBACK = "Traceback (most recent call last)"
 _RUNS_THE_SUITE = re.compile(r"^\s*(\S*/)?python3?\s+-m\s+pytest\b|^\s*pytest\b")
 
 
@@ -307,12 +310,18 @@ class Page:
             )
         except subprocess.TimeoutExpired:
             return [f"{block.id}: {what}: still running after {TIMEOUT} s"]
-        if done.returncode == block.exit_status:
-            return []
-        return [
-            f"{block.id}: {what}\n  exited {done.returncode}, the page says "
-            f"{block.exit_status}; the end of its stderr:\n{_tail(done.stderr)}"
-        ]
+        if done.returncode != block.exit_status:
+            return [
+                f"{block.id}: {what}\n  exited {done.returncode}, the page says "
+                f"{block.exit_status}; the end of its stderr:\n{_tail(done.stderr)}"
+            ]
+        if _TRACEBACK in done.stderr:
+            return [
+                f"{block.id}: {what}\n  exited {done.returncode} as the page says, but printed "
+                f"a traceback; its stderr from there:\n"
+                f"{_tail(done.stderr[done.stderr.index(_TRACEBACK) :])}"
+            ]
+        return []
 
 
 def _tail(text: str, limit: int = 3000) -> str:

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from dentopo import color_scale, read_table, write_report
+from dentopo import color_scale, read_table, write_report, write_table
 from dentopo.cli import main
 from dentopo.report._collect import UNGROUPED, folder_groups
 from dentopo.report._payload import COLOR_STEPS, color_indices, pack_mesh, unpack_mesh
@@ -233,6 +233,29 @@ def test_a_file_gone_since_is_listed_without_a_crash(collection, tmp_path):
     assert summary.pictured == 1 and summary.problems == {gone["file"]: "file not found"}
     assert "no picture: file not found" in (tmp_path / "gone.html").read_text()
     assert records == copy  # the caller's records are untouched
+    assert summary.unpictured == {gone["file"]: "file not found"}
+
+
+def test_the_command_exits_1_naming_a_row_measured_ok_left_without_a_picture(
+    collection, tmp_path, capsys
+):
+    _, table, _ = collection
+    records = read_table(table)
+    ok = [r for r in records if r["status"] == "ok"]
+    failed = [r for r in records if r["status"] != "ok"]
+    gone = dict(ok[1], file=str(tmp_path / "gone.ply"))
+    partial = tmp_path / "partial.csv"
+    write_table(partial, [ok[0], gone, *failed])
+    capsys.readouterr()
+    assert main(["report", str(partial), "-o", str(tmp_path / "partial.html"), "-q"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        f"dentopo: 1 specimen measured ok but without a picture: {gone['file']}: file not found"
+    ]
+    assert (tmp_path / "partial.html").exists()  # the page is written all the same
+    whole = tmp_path / "whole.csv"
+    write_table(whole, [ok[0], *failed])  # a failed row has no picture to miss
+    assert main(["report", str(whole), "-o", str(tmp_path / "whole.html"), "-q"]) == 0
 
 
 def test_a_molar_table_of_base_names_finds_its_files_below_it(collection, tmp_path):
@@ -367,8 +390,8 @@ def test_a_worker_that_dies_costs_only_its_own_call():
     from dentopo.report._fields import run_calls
 
     calls = [(2,), (-1,), (3,), (4,)]
-    results = run_calls(_square_or_die, calls, 2, lambda call: f"died on {call[0]}")
-    assert results == [4, "died on -1", 9, 16]
+    results = run_calls(_square_or_die, calls, 2, lambda call, why: f"{why} on {call[0]}")
+    assert results == [4, "worker process exited unexpectedly (exit code 3) on -1", 9, 16]
     assert run_calls(_square_or_die, calls[2:], 1, None) == [9, 16]  # one worker: this process
 
 

@@ -9,6 +9,17 @@ task it held (reported through ``failed(task, reason, seconds)``, e.g. "worker
 process killed by SIGKILL (out of memory?)"), and a new worker takes its
 place.
 
+Workers never run the caller's ``__main__``: ``spawn`` would (it runs a
+script's top level again in every child, as ``__mp_main__``), so that a plain
+script calling the library without an ``if __name__ == "__main__":`` guard
+re-ran itself in each worker, whose start then failed.  The preparation data of
+our workers (and only theirs: a thread-local flag set while one starts) leaves
+out the main module; a worker imports only what its function and arguments
+need, which are unpickled inside the worker so that a failure there is reported
+with its cause ("the worker process could not start: ...").  A worker says
+"ready" first; one that dies before that cannot start here, and the tasks left
+fail with that reason instead of starting worker after worker.
+
 Workers ignore SIGINT and SIGTERM from their first instruction (the parent
 stops them: a terminal's Ctrl-C and a scheduler's SIGTERM reach the whole
 process group) and die with their parent: on Linux through
@@ -22,6 +33,7 @@ from __future__ import annotations
 import atexit
 import ctypes
 import os
+import pickle
 import signal
 import sys
 import threading
@@ -29,7 +41,7 @@ import time
 import weakref
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
-from multiprocessing import connection, get_context
+from multiprocessing import connection, get_context, spawn
 
 from ._interrupts import ignore_interrupts_in_worker, interrupts_ignored
 
@@ -49,6 +61,29 @@ def _kill_live_workers() -> None:  # runs before multiprocessing's own exit hand
             process.join()
 
 
+_STARTING = threading.local()  # .worker is True while this thread starts one of our workers
+
+
+def _without_main(get_preparation_data: Callable) -> Callable:
+    """`get_preparation_data` that leaves out ``__main__`` for the workers started here."""
+
+    def preparation_data(name):
+        data = get_preparation_data(name)
+        if getattr(_STARTING, "worker", False):
+            data.pop("init_main_from_path", None)  # a script: run again as __mp_main__
+            data.pop("init_main_from_name", None)  # python -m module: imported again
+        return data
+
+    preparation_data.dentopo_without_main = True
+    return preparation_data
+
+
+def _leave_out_main() -> None:
+    """Install :func:`_without_main` once (every start method's Popen asks ``spawn`` for it)."""
+    if not getattr(spawn.get_preparation_data, "dentopo_without_main", False):
+        spawn.get_preparation_data = _without_main(spawn.get_preparation_data)
+
+
 def death_reason(exitcode: int | None) -> str:
     """Why a worker stopped, for the ``error`` column of the file it held."""
     if exitcode is None:
@@ -61,6 +96,15 @@ def death_reason(exitcode: int | None) -> str:
         hint = " (out of memory?)" if -exitcode == getattr(signal, "SIGKILL", 9) else ""
         return f"worker process killed by {name}{hint}"
     return f"worker process exited unexpectedly (exit code {exitcode})"
+
+
+def start_failure(exitcode: int | None) -> str:
+    """Why a worker that died before it was ready could not start."""
+    if exitcode is not None and exitcode < 0:
+        how = death_reason(exitcode).replace("worker process ", "")
+    else:
+        how = f"exit code {exitcode}"
+    return f"the worker process could not start ({how}; its error, if any, is on stderr)"
 
 
 def _watch_parent(parent: int) -> None:
@@ -85,10 +129,25 @@ def die_with_parent(parent: int) -> None:
         threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
 
 
-def _work(conn, function: Callable, args: tuple, parent: int) -> None:
-    """A worker's loop: ``function(task, *args)`` for each task received, until None or EOF."""
+def _one_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+
+
+def _work(conn, payload: bytes, parent: int) -> None:
+    """A worker's loop: ``function(task, *args)`` for each task received, until None or EOF.
+
+    `payload` is ``(function, args)`` pickled: unpickled here, so that what
+    stops it (a module the worker cannot import) goes back to the parent.
+    """
     ignore_interrupts_in_worker()
     die_with_parent(parent)
+    try:
+        function, args = pickle.loads(payload)
+    except Exception as exc:
+        conn.send(("broken", f"the worker process could not start: {_one_line(exc)}"))
+        return
+    conn.send(("ready", None))
     while True:
         try:
             task = conn.recv()
@@ -96,7 +155,11 @@ def _work(conn, function: Callable, args: tuple, parent: int) -> None:
             return
         if task is None:
             return
-        result = function(task, *args)
+        try:
+            result = function(task, *args)
+        except Exception as exc:  # the function's own failures are its to report: a bug
+            conn.send(("failed", f"the worker process failed: {_one_line(exc)}"))
+            continue
         try:
             conn.send(("ok", result))
         except (BrokenPipeError, EOFError, ConnectionError):
@@ -106,20 +169,26 @@ def _work(conn, function: Callable, args: tuple, parent: int) -> None:
 
 
 class _Worker:
-    def __init__(self, context, function: Callable, args: tuple):
+    def __init__(self, context, payload: bytes):
         self.conn, child = context.Pipe(duplex=True)
         self.process = context.Process(
             target=_work,
-            args=(child, function, args, os.getpid()),
+            args=(child, payload, os.getpid()),
             name="dentopo-worker",
             daemon=True,
         )
-        with interrupts_ignored():
-            self.process.start()
+        _leave_out_main()
+        _STARTING.worker = True
+        try:
+            with interrupts_ignored():
+                self.process.start()
+        finally:
+            _STARTING.worker = False
         _LIVE.add(self.process)
         child.close()
         self.task = None
         self.started = 0.0
+        self.ready = False
 
     def give(self, task) -> None:
         self.task = task
@@ -170,18 +239,25 @@ def run_pool(
 
     Results come in the order they finish.  A worker that dies yields
     ``failed(task, reason, seconds)`` for the task it held and is replaced; a
-    result that cannot travel back yields ``failed`` too.  Closing the
+    result that cannot travel back, or an exception out of `function`, yields
+    ``failed`` too.  Where no worker can start, each task yields ``failed``
+    with the reason.  `function`, `args` and the tasks must be importable
+    without the caller's ``__main__`` (module-level functions of a package):
+    workers do not run it.  Closing the
     iterator early, or an exception while it waits (Ctrl-C), kills the
     workers at once; otherwise they are stopped when the tasks run out.
     `function` and `args` are pickled once per worker, each task once.
     """
     context = get_context("spawn")  # numba's OpenMP threading layer is not fork-safe
+    payload = pickle.dumps((function, args))  # what cannot be pickled fails here, named
     pending = deque(tasks)
     pool: list[_Worker] = []
     finished = False
+    started = False  # a worker has said "ready": workers can start here
+    cannot_start = None  # why no worker could start, for the tasks left
     try:
         for _ in range(min(workers, len(pending))):
-            worker = _Worker(context, function, args)
+            worker = _Worker(context, payload)
             pool.append(worker)
             worker.give(pending.popleft())
         while True:
@@ -195,24 +271,37 @@ def run_pool(
                     continue
                 message = worker.receive()
                 task, seconds = worker.task, round(time.perf_counter() - worker.started, 4)
-                if message is not None:
+                if message is not None and message[0] == "ready":
+                    worker.ready = started = True
+                    continue
+                if message is not None and message[0] != "broken":
                     worker.task = None
                     kind, value = message
                     yield value if kind == "ok" else failed(task, value, seconds)
                     if pending:
                         worker.give(pending.popleft())
                     continue
-                if worker.process.is_alive():
+                if message is None and worker.process.is_alive():
                     continue
                 worker.process.join()
                 worker.task = None
                 pool.remove(worker)
                 worker.close()
-                yield failed(task, death_reason(worker.process.exitcode), seconds)
-                if pending:
-                    replacement = _Worker(context, function, args)
+                if message is not None:  # "broken": it said why it could not start
+                    reason = message[1]
+                elif worker.ready:
+                    reason = death_reason(worker.process.exitcode)
+                else:
+                    reason = start_failure(worker.process.exitcode)
+                yield failed(task, reason, seconds)
+                if not worker.ready and not started:
+                    cannot_start = reason  # no replacement: it would fail alike
+                elif pending:
+                    replacement = _Worker(context, payload)
                     pool.append(replacement)
                     replacement.give(pending.popleft())
+        while pending and cannot_start is not None:
+            yield failed(pending.popleft(), cannot_start, None)
         finished = True
     finally:
         for worker in pool:

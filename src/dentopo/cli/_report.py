@@ -77,7 +77,11 @@ def _default_output(table: str) -> str:
 
 
 def make_report(table, output: str, *, quiet: bool = False, **options) -> int:
-    """Write the report of `table` to `output` and say so; the exit code (0, 1 or 2)."""
+    """Write the report of `table` to `output` and say so; the exit code (0, 1 or 2).
+
+    1: the page is written, but rows measured ``ok`` have no picture (a file
+    moved or unreadable since, a worker that failed): the first is named.
+    """
     try:
         summary = write_report(table, output, **options)
     except (TypeError, ValueError) as exc:
@@ -94,6 +98,14 @@ def make_report(table, output: str, *, quiet: bool = False, **options) -> int:
             f"{_plural(len(summary.groups), 'group')}{detail}, {summary.size / 1e6:.1f} MB, "
             f"{summary.seconds:.1f} s"
         )
+    if summary.unpictured:  # rows measured ok that the page cannot show: a failure, named
+        file, why = next(iter(summary.unpictured.items()))
+        more = len(summary.unpictured) - 1
+        _say(
+            f"{_plural(len(summary.unpictured), 'specimen')} measured ok but without a picture: "
+            f"{file}: {why}" + (f" (and {more} more, listed in the report)" if more else "")
+        )
+        return 1
     return 0
 
 

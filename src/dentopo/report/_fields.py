@@ -90,8 +90,10 @@ def run_calls(function, calls: Sequence[tuple], workers: int, died) -> list:
     """``function(*call)`` for each call, in order, on `workers` processes (1: this one).
 
     The calls go to the batch's pool (:func:`dentopo.batch.run_pool`:
-    ``spawn``ed workers that ignore Ctrl-C and die with this process); where a
-    worker dies, its call gets ``died(call)`` and the others go on.
+    ``spawn``ed workers that ignore Ctrl-C, die with this process and do not
+    run the caller's ``__main__``); where a worker dies or cannot start, its
+    call gets ``died(call, reason)`` (the pool's reason: the signal, or why it
+    could not start) and the others go on.
     """
     if workers <= 1 or len(calls) <= 1:
         return [function(*call) for call in calls]
@@ -101,7 +103,7 @@ def run_calls(function, calls: Sequence[tuple], workers: int, died) -> list:
         _call,
         (function,),
         workers=min(workers, len(calls)),
-        failed=lambda task, reason, seconds: (task[0], died(task[1])),
+        failed=lambda task, reason, seconds: (task[0], died(task[1], reason)),
     )
     for index, result in finished:
         results[index] = result
@@ -114,5 +116,5 @@ def measure_fields(tasks: Sequence[tuple], workers: int) -> list[Field | str]:
         measure_field,
         tasks,
         workers,
-        lambda call: "the worker process measuring it died (out of memory?)",
+        lambda call, reason: f"measuring it in a worker failed: {reason}",
     )

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from .._html_repr import result_html
 from .._optional import PICTURES, REPORT
@@ -39,6 +39,11 @@ class ReportSummary:
         The page's size in bytes.
     seconds : float
         Wall-clock time taken.
+    unpictured : dict
+        Specimen file -> why it has no picture, for the rows measured ``ok``
+        only: what the page lacks although the table has it (a file moved or
+        unreadable since, a worker that failed).  ``dentopo report`` exits 1
+        when it is not empty.
     """
 
     path: str
@@ -49,6 +54,7 @@ class ReportSummary:
     groups: tuple[str, ...]
     size: int
     seconds: float
+    unpictured: dict = field(default_factory=dict)
 
     def _repr_html_(self) -> str:
         """A compact table for notebooks."""
@@ -184,7 +190,7 @@ def write_report(
         draw,
         [([drawn[i] for i in chunk], scale, thumbnail_size) for chunk in chunks],
         workers,
-        lambda call: draw(*call),  # a worker died: draw its share here
+        lambda call, reason: draw(*call),  # a worker died: draw its share here
     )
     thumbnails, payloads = {}, {}
     for chunk, results in zip(chunks, pictures, strict=True):
@@ -225,4 +231,5 @@ def write_report(
         groups=tuple(order),
         size=len(page),
         seconds=time.perf_counter() - start,
+        unpictured={s.file: s.problem for s in specimens if s.problem and s.status == "ok"},
     )
