@@ -73,3 +73,10 @@ def test_the_molar_layout_puts_arc_after_molars_own_columns():
         "ARC_negative",
     )
     assert header.index("ARC_negative") < header.index("ariaDNE")
+
+
+@pytest.mark.parametrize("given", [[[]], [1], [None], [["slope"]], 3.5])
+def test_metrics_that_are_not_names_are_a_type_error_naming_them(given):
+    # a list of lists (a JSON body) raised AttributeError: 'list' has no attribute 'strip'
+    with pytest.raises(TypeError, match="metrics must be names"):
+        check_metrics(given)

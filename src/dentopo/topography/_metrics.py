@@ -126,7 +126,7 @@ def check_metrics(metrics: str | Iterable[str]) -> tuple[str, ...]:
         metrics = metrics.split(",")
     try:
         names = [str.lower(name.strip()) for name in metrics]
-    except TypeError:
+    except (TypeError, AttributeError):  # not iterable, or an item that is not a string
         raise TypeError(
             f"metrics must be names or a comma-separated string; got {metrics!r}"
         ) from None
