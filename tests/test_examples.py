@@ -315,13 +315,44 @@ class Page:
                 f"{block.id}: {what}\n  exited {done.returncode}, the page says "
                 f"{block.exit_status}; the end of its stderr:\n{_tail(done.stderr)}"
             ]
-        if _TRACEBACK in done.stderr:
+        if _TRACEBACK in _without_dask_shutdown_noise(done.stderr):
             return [
                 f"{block.id}: {what}\n  exited {done.returncode} as the page says, but printed "
                 f"a traceback; its stderr from there:\n"
                 f"{_tail(done.stderr[done.stderr.index(_TRACEBACK) :])}"
             ]
         return []
+
+
+#: The last exception of a traceback dask's worker logs when its heartbeat finds the scheduler
+#: already closed as a ``LocalCluster`` shuts down: a race inside dask, not the example's.
+_DASK_SHUTDOWN = re.compile(r"^distributed\.comm\.core\.CommClosedError: .*heartbeat")
+_CHAINED = ("The above exception", "During handling of the above exception")
+
+
+def _without_dask_shutdown_noise(stderr: str) -> str:
+    """`stderr` without the tracebacks (chains included) that end in dask's shutdown race."""
+    kept: list[str] = []
+    chain: list[str] = []
+    last_exception = None
+    for line in [*stderr.splitlines(), ""]:
+        if line.startswith((_TRACEBACK, *_CHAINED)):
+            chain.append(line)
+            last_exception = None  # a traceback (again): its exception is still to come
+            continue
+        if chain and (last_exception is None or not line.strip()):
+            chain.append(line)  # a frame, a blank line, or the exception that ends the chain
+            if last_exception is None and line.strip() and not line[0].isspace():
+                last_exception = line
+            continue
+        if chain:  # the chain has ended
+            if not (last_exception and _DASK_SHUTDOWN.match(last_exception)):
+                kept.extend(chain)
+            chain, last_exception = [], None
+        kept.append(line)
+    if not (last_exception and _DASK_SHUTDOWN.match(last_exception)):
+        kept.extend(chain)  # a chain still open at the end
+    return "\n".join(kept)
 
 
 def _tail(text: str, limit: int = 3000) -> str:
@@ -368,3 +399,35 @@ def test_example_runs(block, page_dirs):
     page.done = max(page.done, index)
     problems = page.run(block)
     assert problems == [], "\n".join(problems)
+
+
+_DASK_RACE = """\
+2026-12-04 21:30:00,000 - distributed.worker - ERROR - Failed to communicate with scheduler
+Traceback (most recent call last):
+  File ".../distributed/comm/tcp.py", line 226, in read
+    frames_nosplit_nbytes_bin = await stream.read_bytes(fmt_size)
+tornado.iostream.StreamClosedError: Stream is closed
+
+The above exception was the direct cause of the following exception:
+
+Traceback (most recent call last):
+  File ".../distributed/worker.py", line 1165, in heartbeat
+    response = await retry_operation(
+distributed.comm.core.CommClosedError: in <TCP (closed) ConnectionPool.heartbeat_worker \
+local=tcp://127.0.0.1:40504 remote=tcp://127.0.0.1:44729>: Stream is closed
+"""
+
+_OURS = """\
+Traceback (most recent call last):
+  File "script.py", line 3, in <module>
+    write_report("results.csv")
+ValueError: no row
+"""
+
+
+def test_only_dasks_shutdown_race_is_not_taken_for_an_examples_traceback():
+    assert _TRACEBACK not in _without_dask_shutdown_noise(_DASK_RACE)
+    assert "Failed to communicate" in _without_dask_shutdown_noise(_DASK_RACE)
+    for text in (_OURS, _DASK_RACE + _OURS, _OURS + _DASK_RACE, _DASK_RACE.replace("heart", "")):
+        assert _TRACEBACK in _without_dask_shutdown_noise(text)
+    assert "ValueError: no row" in _without_dask_shutdown_noise(_DASK_RACE + _OURS)
