@@ -1,5 +1,8 @@
 """Every example in README.md and docs/**/*.md runs, as a reader would run it.
 
+The gallery's scripts (examples/gallery/plot_*.py, which the docs build runs in
+its own process) are run here too, each as ``python FILE`` in an empty folder.
+
 Each fenced block of a page is one test, named ``PAGE:LINE`` (the fence's line):
 
 - ``python`` blocks run as a script in a fresh interpreter (this one, with this
@@ -431,3 +434,29 @@ def test_only_dasks_shutdown_race_is_not_taken_for_an_examples_traceback():
     for text in (_OURS, _DASK_RACE + _OURS, _OURS + _DASK_RACE, _DASK_RACE.replace("heart", "")):
         assert _TRACEBACK in _without_dask_shutdown_noise(text)
     assert "ValueError: no row" in _without_dask_shutdown_noise(_DASK_RACE + _OURS)
+
+
+GALLERY = sorted((ROOT / "examples" / "gallery").glob("plot_*.py"))
+
+
+@pytest.mark.parametrize("script", GALLERY, ids=lambda path: path.name)
+def test_a_gallery_example_runs_as_a_script(script, tmp_path):
+    # the docs build runs them in its own process; a reader runs them with `python FILE`
+    copy = tmp_path / script.name
+    copy.write_text(script.read_text(encoding="utf-8"), encoding="utf-8")
+    done = subprocess.run(
+        [PYTHON, str(copy)],
+        cwd=tmp_path,
+        env=_environment(),
+        stdin=subprocess.DEVNULL,
+        capture_output=True,
+        text=True,
+        errors="replace",
+        timeout=TIMEOUT,
+    )
+    assert done.returncode == 0, f"{script.name} exited {done.returncode}:\n{_tail(done.stderr)}"
+    assert _TRACEBACK not in done.stderr, _tail(done.stderr)
+
+
+def test_the_gallery_has_examples():
+    assert len(GALLERY) >= 5, GALLERY
