@@ -404,3 +404,12 @@ def test_an_output_folder_inside_the_input_folder_is_no_input_later(raw, tmp_pat
     assert (inside / OUTPUT_FOLDER_MARK).is_file() and (inside / "tooth.ply").is_file()
     assert find_mesh_files([str(raw)]).files == [str(raw / "tooth.ply")]
     assert not (outside / OUTPUT_FOLDER_MARK).exists()  # only where it would be searched
+
+
+def test_an_output_folder_beside_the_input_files_is_no_input_later(raw, tmp_path):
+    # the inputs given as files (a shell's raw/*.ply): their folder is searched later all the same
+    beside = raw / "prepared-files"
+    argv = ["prepare", str(raw / "tooth.ply"), "-o", str(beside), "--orient", "none", "-q"]
+    assert [code for code, _ in _run_many([argv], tmp_path)] == [0]
+    assert (beside / OUTPUT_FOLDER_MARK).is_file() and (beside / "tooth.ply").is_file()
+    assert find_mesh_files([str(raw)]).files == [str(raw / "tooth.ply")]

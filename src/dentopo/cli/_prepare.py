@@ -384,6 +384,17 @@ def _save_protocol(path: str, protocol) -> None:
     atomic_write(path, lambda stream: stream.write(text))
 
 
+def _searched_folders(paths) -> list[str]:
+    """The folders a later ``dentopo FOLDER`` of these inputs would search: each folder given,
+    and the folder of each file (or pattern) given (``raw/*.ply`` is the folder ``raw``)."""
+    folders = []
+    for path in paths:
+        folder = path if os.path.isdir(path) else os.path.dirname(os.path.abspath(path))
+        if os.path.isdir(folder):
+            folders.append(folder)
+    return folders
+
+
 def _inside(path: str, folder: str) -> bool:
     path, folder = os.path.realpath(path), os.path.realpath(folder)
     return os.path.commonpath([path, folder]) == folder
@@ -493,7 +504,7 @@ def prepare_main(argv: list[str]) -> int:
             say(f"cannot write --save-protocol {args.save_protocol!r}: {exc.strerror or exc}")
             return 2
     try:
-        if any(os.path.isdir(p) and _inside(args.output, p) for p in args.paths):
+        if any(_inside(args.output, folder) for folder in _searched_folders(args.paths)):
             mark_output_folder(args.output)
     except OSError as exc:
         say(f"cannot write into --output {args.output!r}: {exc.strerror or exc}")
