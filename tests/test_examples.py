@@ -255,6 +255,20 @@ def test_the_parser_finds_blocks_markers_and_commands(tmp_path):
 # running the blocks of a page in order, in one working directory per page
 
 
+def _run_as_a_reader(argv: list[str], cwd) -> subprocess.CompletedProcess:
+    """`argv` run in `cwd` as a reader would (no input, this checkout's ``dentopo``), captured."""
+    return subprocess.run(
+        argv,
+        cwd=cwd,
+        env=_environment(),
+        stdin=subprocess.DEVNULL,
+        capture_output=True,
+        text=True,
+        errors="replace",
+        timeout=TIMEOUT,
+    )
+
+
 def _environment() -> dict[str, str]:
     env = dict(os.environ)
     env["PATH"] = os.path.dirname(PYTHON) + os.pathsep + env.get("PATH", "")
@@ -301,16 +315,7 @@ class Page:
 
     def _check(self, block: Block, argv: list[str], what: str) -> list[str]:
         try:
-            done = subprocess.run(
-                argv,
-                cwd=self.directory,
-                env=_environment(),
-                stdin=subprocess.DEVNULL,
-                capture_output=True,
-                text=True,
-                errors="replace",
-                timeout=TIMEOUT,
-            )
+            done = _run_as_a_reader(argv, self.directory)
         except subprocess.TimeoutExpired:
             return [f"{block.id}: {what}: still running after {TIMEOUT} s"]
         if done.returncode != block.exit_status:
@@ -444,16 +449,7 @@ def test_a_gallery_example_runs_as_a_script(script, tmp_path):
     # the docs build runs them in its own process; a reader runs them with `python FILE`
     copy = tmp_path / script.name
     copy.write_text(script.read_text(encoding="utf-8"), encoding="utf-8")
-    done = subprocess.run(
-        [PYTHON, str(copy)],
-        cwd=tmp_path,
-        env=_environment(),
-        stdin=subprocess.DEVNULL,
-        capture_output=True,
-        text=True,
-        errors="replace",
-        timeout=TIMEOUT,
-    )
+    done = _run_as_a_reader([PYTHON, str(copy)], tmp_path)
     assert done.returncode == 0, f"{script.name} exited {done.returncode}:\n{_tail(done.stderr)}"
     assert _TRACEBACK not in done.stderr, _tail(done.stderr)
 

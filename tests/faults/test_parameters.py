@@ -52,6 +52,35 @@ def _run_many(argvs):
     return json.loads(ran.stdout.strip().splitlines()[-1])
 
 
+#: Calls the library in one process on a small crown and prints what each raised (its
+#: ValueError's words, or "no error"), so that a crash in any fails the whole case.
+LIBRARY_WORDS = """
+import json
+from dentopo import {names}
+from dentopo.batch import make_settings
+from dentopo.samples import tooth
+mesh = tooth(rings=6)
+words = []
+for call in ({calls}):
+    try:
+        call()
+    except ValueError as exc:
+        words.append(str(exc))
+    else:
+        words.append("no error")
+print(json.dumps(words))
+"""
+
+
+def _library_words(names: str, calls: list[str]) -> list[str]:
+    """What each of `calls` (source, of `names` from dentopo, ``make_settings`` and ``mesh``)
+    raised, run by :data:`LIBRARY_WORDS` in a subprocess."""
+    lambdas = "".join(f"lambda: {call}, " for call in calls)
+    ran = python(LIBRARY_WORDS.format(names=names, calls=lambdas))
+    assert ran.returncode == 0, ran.describe()
+    return json.loads(ran.stdout)
+
+
 def test_cli_refuses_the_reported_bandwidth(mesh_file, tmp_path):
     # the command of the report, as a command: it ended in SIGSEGV
     ran = dentopo(mesh_file, "-b", "1e-155", "-o", str(tmp_path / "t.csv"))
@@ -112,31 +141,16 @@ def test_study_commands_refuse_a_bandwidth_out_of_range(mesh_file, tmp_path, sub
 
 
 def test_library_raises_the_same_words():
-    code = """
-import json
-from dentopo import ariaDNE
-from dentopo.batch import make_settings
-from dentopo.samples import tooth
-mesh = tooth(rings=6)
-words = []
-for call in (
-    lambda: ariaDNE(mesh, bandwidth=1e-155),
-    lambda: ariaDNE(mesh, bandwidth=float("nan")),
-    lambda: ariaDNE(mesh, bandwidth=1e300, method="exact"),
-    lambda: ariaDNE(mesh, cutoff=float("inf")),
-    lambda: make_settings(bandwidth=1e-155),
-):
-    try:
-        call()
-    except ValueError as exc:
-        words.append(str(exc))
-    else:
-        words.append("no error")
-print(json.dumps(words))
-"""
-    ran = python(code)
-    assert ran.returncode == 0, ran.describe()
-    words = json.loads(ran.stdout)
+    words = _library_words(
+        "ariaDNE",
+        [
+            "ariaDNE(mesh, bandwidth=1e-155)",
+            'ariaDNE(mesh, bandwidth=float("nan"))',
+            'ariaDNE(mesh, bandwidth=1e300, method="exact")',
+            'ariaDNE(mesh, cutoff=float("inf"))',
+            "make_settings(bandwidth=1e-155)",
+        ],
+    )
     assert [w.startswith(BANDWIDTH_WORDS) for w in words] == [True, True, True, False, True]
     assert words[3].startswith(CUTOFF_WORDS)
 
@@ -273,32 +287,17 @@ def test_the_ends_of_the_topography_ranges_compute(mesh_file, tmp_path):
 
 
 def test_library_refuses_outliers_and_rotations_out_of_range():
-    code = """
-import json
-from dentopo import classic_dne, opcr
-from dentopo.batch import make_settings
-from dentopo.samples import tooth
-mesh = tooth(rings=6)
-words = []
-for call in (
-    lambda: classic_dne(mesh, outliers=100),
-    lambda: classic_dne(mesh, outliers=float("nan")),
-    lambda: opcr(mesh, step=0),
-    lambda: opcr(mesh, steps=1000),
-    lambda: make_settings(dne_outliers=100),
-    lambda: make_settings(opcr_step=-1),
-):
-    try:
-        call()
-    except ValueError as exc:
-        words.append(str(exc))
-    else:
-        words.append("no error")
-print(json.dumps(words))
-"""
-    ran = python(code)
-    assert ran.returncode == 0, ran.describe()
-    words = json.loads(ran.stdout)
+    words = _library_words(
+        "classic_dne, opcr",
+        [
+            "classic_dne(mesh, outliers=100)",
+            'classic_dne(mesh, outliers=float("nan"))',
+            "opcr(mesh, step=0)",
+            "opcr(mesh, steps=1000)",
+            "make_settings(dne_outliers=100)",
+            "make_settings(opcr_step=-1)",
+        ],
+    )
     assert words[0].startswith("outliers is a percentage and must lie in [0, 50]"), words
     assert words[1].startswith("outliers is a percentage and must lie in [0, 50]"), words
     assert words[2].startswith("step must lie in (0, 360 / steps]"), words

@@ -296,15 +296,22 @@ def _lines(stderr: str) -> list[str]:
     return [line for line in stderr.splitlines() if line.strip()]
 
 
-def test_both_commands_refuse_every_refused_value_before_reading_a_file(raw, tmp_path):
-    argvs, names = [], []
-    for number, (changes, named) in enumerate(REFUSED):
+def _both_commands(raw, tmp_path, cases, *, prepare=(), measure=()) -> list[list[str]]:
+    """For each case's protocol changes, a file ``pN.toml`` and two argvs: ``prepare`` into
+    ``outN`` and ``dentopo --prepare`` into ``outN.csv`` (with the extra options given)."""
+    argvs = []
+    for number, (changes, _) in enumerate(cases):
         protocol = tmp_path / f"p{number}.toml"
         _protocol_file(protocol, changes)
         out = tmp_path / f"out{number}"
-        argvs.append(["prepare", str(raw), "-o", str(out), "--protocol", str(protocol)])
-        argvs.append([str(raw), "--prepare", str(protocol), "-o", str(out) + ".csv"])
-        names += [named, named]
+        argvs.append(["prepare", str(raw), "-o", str(out), "--protocol", str(protocol), *prepare])
+        argvs.append([str(raw), "--prepare", str(protocol), "-o", str(out) + ".csv", *measure])
+    return argvs
+
+
+def test_both_commands_refuse_every_refused_value_before_reading_a_file(raw, tmp_path):
+    argvs = _both_commands(raw, tmp_path, REFUSED)
+    names = [named for _, named in REFUSED for _ in range(2)]
     for (code, err), named, argv in zip(_run_many(argvs, tmp_path), names, argvs, strict=True):
         assert code == 2, (argv, err)
         assert len(_lines(err)) == 1 and named in err, (argv, err)
@@ -312,13 +319,7 @@ def test_both_commands_refuse_every_refused_value_before_reading_a_file(raw, tmp
 
 
 def test_both_commands_prepare_a_hostile_direction_into_a_finite_mesh(raw, tmp_path):
-    argvs = []
-    for number, (changes, _) in enumerate(SAME_DIRECTION):
-        protocol = tmp_path / f"p{number}.toml"
-        _protocol_file(protocol, changes)
-        out = tmp_path / f"out{number}"
-        argvs.append(["prepare", str(raw), "-o", str(out), "--protocol", str(protocol), "-q"])
-        argvs.append([str(raw), "--prepare", str(protocol), "-o", str(out) + ".csv", "-q"])
+    argvs = _both_commands(raw, tmp_path, SAME_DIRECTION, prepare=["-q"], measure=["-q"])
     for code, err in _run_many(argvs, tmp_path):
         assert code == 0, err
     for number in range(len(SAME_DIRECTION)):
@@ -329,13 +330,7 @@ def test_both_commands_prepare_a_hostile_direction_into_a_finite_mesh(raw, tmp_p
 
 
 def test_a_diverging_filter_fails_its_file_and_writes_no_mesh(raw, tmp_path):
-    argvs = []
-    for number, (changes, _) in enumerate(DIVERGING):
-        protocol = tmp_path / f"p{number}.toml"
-        _protocol_file(protocol, changes)
-        out = tmp_path / f"out{number}"
-        argvs.append(["prepare", str(raw), "-o", str(out), "--protocol", str(protocol)])
-        argvs.append([str(raw), "--prepare", str(protocol), "-o", str(out) + ".csv", "-q"])
+    argvs = _both_commands(raw, tmp_path, DIVERGING, measure=["-q"])
     results = _run_many(argvs, tmp_path)
     for number, (_, named) in enumerate(DIVERGING):
         (code, err), (main_code, _) = results[2 * number], results[2 * number + 1]
