@@ -14,11 +14,11 @@ from dentopo.topography import (
     DOOLKIT_ARC_FIELDS,
     ARCResult,
     DoolkitARCResult,
-    _vcg,
     arc,
     doolkit_arc,
     prepare_surface,
 )
+from dentopo.topography.surface import _vcg
 
 TOLERANCE = 1e-6
 

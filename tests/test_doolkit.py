@@ -38,7 +38,7 @@ from dentopo.topography import (
     relief_rate_below_median,
     shape_index,
 )
-from dentopo.topography._opc_doolkit import doolkit_pairs
+from dentopo.topography.opc._doolkit import doolkit_pairs
 
 #: The reference crowns point to -z, as doolkit measured them: that warning is expected here.
 pytestmark = [
@@ -406,7 +406,7 @@ def test_bearing_expression():
     assert bearing[:5] == pytest.approx([0.0, 90.0, 180.0, 270.0, 0.0], abs=1e-12)
     assert bearing[4] == 0.0
     assert bearing[5] == 360.0
-    from dentopo.topography._opc_doolkit import face_bins
+    from dentopo.topography.opc._doolkit import face_bins
 
     assert face_bins(bearing, 8, 0.0)[5] == 0  # in no bin at rotation 0
 

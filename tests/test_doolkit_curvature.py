@@ -14,11 +14,11 @@ from dentopo.topography import (
     DOOLKIT_DNE_FIELDS,
     AngularityResult,
     DoolkitDNEResult,
-    _vcg,
     angularity,
     doolkit_dne,
     prepare_surface,
 )
+from dentopo.topography.surface import _vcg
 
 TOLERANCE = 1e-6
 
@@ -107,7 +107,7 @@ def test_outliers_at_or_above_the_quantile_are_zeroed():
 
 
 def test_degenerate_gram_falls_back_to_rank_one():
-    from dentopo.topography._dne_doolkit import face_energy
+    from dentopo.topography.dne._doolkit import face_energy
 
     # a needle: the third vertex (almost) on the first edge
     vertices = np.array([[0.0, 0, 0], [1.0, 0, 0], [2.0, 1e-12, 0]])

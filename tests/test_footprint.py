@@ -18,14 +18,14 @@ from dentopo.topography import (
     HULLS,
     FootprintResult,
     UnitWarning,
-    _concaveman,
     concave_hull,
     convex_hull,
     footprint_area,
     prepare_surface,
 )
-from dentopo.topography._concaveman import js_exp, js_log
-from dentopo.topography._footprint import json_digits, shoelace, unique_xy
+from dentopo.topography.footprint import _concaveman
+from dentopo.topography.footprint._doolkit import json_digits, shoelace, unique_xy
+from dentopo.topography.footprint._jsmath import js_exp, js_log
 
 
 def concaveman_ring(points, concavity, length_threshold):

@@ -58,6 +58,24 @@ ALLOWED = {
 }
 SUBPACKAGES = set(ALLOWED)
 
+#: dentopo.topography's families -> the families they may import.  The shared checks at
+#: topography's own level (``_parameters``, ``_units``, ``_metrics``) are open to every family
+#: and import none; a family imports another only where a metric is built on it (relief
+#: divides by a footprint, doolkit's OPC and relief read doolkit's slope mesh).
+TOPOGRAPHY_FAMILIES = {
+    "surface": set(),
+    "footprint": {"surface"},
+    "slope": {"surface"},
+    "curvature": {"surface"},
+    "dne": {"surface"},
+    "opc": {"surface", "slope"},
+    "relief": {"surface", "footprint", "slope"},
+}
+
+#: No module of the package is longer than this (lines): past it, a module holds more than
+#: one concern.
+MAX_LINES = 800
+
 #: Top-level private modules every module may import; they import nothing of dentopo.
 PRIVATE = {
     "dentopo._version",
@@ -206,3 +224,47 @@ def test_no_import_cycles():
     for node in sorted(graph):
         if node not in state:
             visit(node)
+
+
+def _family(module: str) -> str | None:
+    parts = module.split(".")
+    if len(parts) > 2 and parts[1] == "topography" and parts[2] in TOPOGRAPHY_FAMILIES:
+        return parts[2]
+    return None
+
+
+def test_every_topography_family_is_known_and_documented():
+    root = PACKAGE / "topography"
+    on_disk = {p.name for p in root.iterdir() if (p / "__init__.py").exists()}
+    assert on_disk == set(TOPOGRAPHY_FAMILIES)
+    for name in on_disk:
+        doc = ast.get_docstring(ast.parse((root / name / "__init__.py").read_text()))
+        assert doc and "May import" in doc, (
+            f"dentopo.topography.{name} does not say what it imports"
+        )
+
+
+@pytest.mark.parametrize(
+    "module", sorted(m for m in _modules() if m.startswith("dentopo.topography"))
+)
+def test_topography_families_import_only_what_they_are_built_on(module):
+    own = _family(module)
+    wrong = set()
+    for target in _imports(module, _modules()[module], lazy=True):
+        other = _family(target)
+        if other is None or other == own:
+            continue
+        if own is None and module != "dentopo.topography":
+            wrong.add(target)  # the shared checks sit below every family
+        elif own is not None and other not in TOPOGRAPHY_FAMILIES[own]:
+            wrong.add(target)
+    assert not wrong, f"{module} imports {sorted(wrong)} against the families' layering"
+
+
+def test_no_module_is_longer_than_one_concern():
+    long = {
+        str(path.relative_to(PACKAGE)): n
+        for path in PACKAGE.rglob("*.py")
+        if (n := len(path.read_text().splitlines())) > MAX_LINES
+    }
+    assert not long, f"modules over {MAX_LINES} lines: {long}"

@@ -16,13 +16,19 @@ from dentopo.topography import (
     FootprintError,
     FootprintWarning,
     RFIResult,
-    _rfi,
     molar_scale,
     prepare_surface,
     rfi,
 )
-from dentopo.topography._alphahull import FAN_CLEAR, FAN_INSIDE, FAN_UNDEFINED, AlphaHull, fan_test
-from dentopo.topography._rfi import MAX_EVALUATIONS, first_occurrence, walk
+from dentopo.topography.footprint._alphahull import (
+    FAN_CLEAR,
+    FAN_INSIDE,
+    FAN_UNDEFINED,
+    AlphaHull,
+    fan_test,
+)
+from dentopo.topography.relief import _molar as _rfi
+from dentopo.topography.relief._molar import MAX_EVALUATIONS, first_occurrence, walk
 
 #: The reference crowns point to -z, as molaR measured them: that warning is expected here.
 pytestmark = [

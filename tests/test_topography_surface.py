@@ -24,7 +24,6 @@ from dentopo.batch._measure import TopographyOptions, measure_mesh
 from dentopo.mesh import boundary_edges
 from dentopo.topography import (
     Surface,
-    _kernels,
     classic_dne,
     molar_scale,
     opc,
@@ -33,8 +32,9 @@ from dentopo.topography import (
     rfi,
     slope,
 )
-from dentopo.topography._delaunay import delaunay
-from dentopo.topography._rfi import first_occurrence
+from dentopo.topography.footprint._delaunay import delaunay
+from dentopo.topography.relief._molar import first_occurrence
+from dentopo.topography.surface import _kernels
 
 pytestmark = pytest.mark.filterwarnings("ignore:the crown points to -z:UserWarning")
 
@@ -261,7 +261,7 @@ def test_cocircular_points_fall_back_to_qhull():
 def test_the_sweep_in_slices_is_the_sweep_in_one_call(name, monkeypatch):
     # the sweep and its certification run in bounded compiled calls (so that Ctrl-C and
     # SIGTERM are raised between them): any slicing gives the same triangles, bit for bit
-    from dentopo.topography import _delaunay
+    from dentopo.topography.footprint import _delaunay
 
     if name == "random":
         points = np.random.default_rng(5).random((20_000, 2))
@@ -289,7 +289,7 @@ def test_the_sweep_in_slices_is_the_sweep_in_one_call(name, monkeypatch):
 
 
 def test_a_failed_certificate_in_slices_is_still_a_failure():
-    from dentopo.topography import _delaunay
+    from dentopo.topography.footprint import _delaunay
 
     points = np.random.default_rng(6).random((500, 2))
     most = 3 * (2 * len(points) - 5)

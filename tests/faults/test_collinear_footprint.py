@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dentopo.topography import _kernels, rfi
-from dentopo.topography._delaunay import delaunay
+from dentopo.topography import rfi
+from dentopo.topography.footprint._delaunay import delaunay
+from dentopo.topography.surface import _kernels
 
 
 def test_a_flat_triangle_has_its_circumcentre_at_infinity():

@@ -374,7 +374,7 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     for metric in (slope, opcr, classic_dne):
         metric(crown)
     rfi(crown, find_alpha=True)
-    from dentopo.topography._delaunay import delaunay
+    from dentopo.topography.footprint._delaunay import delaunay
 
     delaunay(np.random.default_rng(0).random((200, 2)))  # general points: every certificate
     from dentopo import topography
@@ -534,7 +534,7 @@ def test_the_hierarchy_built_a_level_a_call_is_that_of_one_call():
     import numpy as np
 
     from dentopo.samples import tooth
-    from dentopo.sign import _winding as w
+    from dentopo.sign import _hierarchy as w
 
     mesh = tooth(rings=200)  # above PARALLEL_BUILD triangles: the levels' nodes in parallel
     vertices = np.asarray(mesh.vertices, dtype=np.float64)

@@ -1,6 +1,6 @@
 """The orient step: a rigid motion that puts the crown occlusal side up (+z).
 
-The rules (the orientation rules the metrics use, :mod:`dentopo.topography._orientation`,
+The rules (the orientation rules the metrics use, :mod:`dentopo.topography.surface._orientation`,
 carried from "which way along z" to "which way in space"):
 
 * **Flat.** A surface whose volume, closed over its open boundary, is at most
@@ -68,7 +68,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from ..mesh import boundary_edges, orient_consistently
-from ..topography._orientation import CLOSED_MARGIN, FLAT_TOLERANCE, closed_volume
+from ..topography.surface._orientation import CLOSED_MARGIN, FLAT_TOLERANCE, closed_volume
 from ._protocol import ProtocolError, scaled_direction
 from ._result import Outcome
 

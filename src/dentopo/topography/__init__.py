@@ -1,52 +1,29 @@
-"""Dental topography metrics in molaR 6.0's definitions: one module per metric.
+"""Dental topography metrics, laid out by family, each peer's variant a module of its own.
 
-Classic DNE with its convex/concave split (``_classic_dne``, molaR's ``DNE``);
-mean surface slope (``_slope``, molaR's ``Slope``); orientation patch count and
-its rotated mean (``_opc``, molaR's ``OPC`` and ``OPCr``); the relief index with
-its alpha-shape footprint and molaR's search for an alpha (``_rfi``, molaR's
-``RFI``); doolkit 1.42.2's footprint area, concave or convex (``_footprint``,
-doolkit's ``area2d``, its concave hull a port of mapbox's concaveman in
-``_concaveman``).  They share molaR's surface preparation (``_surface``) and the
-orientation check of the metrics that assume the crown points to +z
-(``_orientation``) and the checks of their parameters (``_parameters``);
-``_metrics`` names them all, ariaDNE included, for a batch.  Their per-face
-and per-edge passes are compiled (``_kernels``), and RFI's Delaunay
-triangulation is a compiled, certified sweep with qhull as the fallback
-(``_delaunay``).  The curvature-based metrics of molaR and doolkit (ARC,
-doolkit's DNE and angularity: ``_arc``, ``_dne_doolkit``, ``_angularity``)
-share a float32 emulation of the VCG library's geometry (``_vcg``).
+One subpackage per family of metrics; in each, one module per peer tool whose numbers it
+reproduces (``_molar``: molaR 6.0; ``_doolkit``: doolkit 1.42.2):
 
-doolkit 1.42.2's metrics, in its definitions and precision: face slope,
-inclination and bearing on the mesh as its reader leaves it (``_angles``),
-its OPC and OPCR (``_opc_doolkit``), elevation, the Ungar, Boyer and Guy
-relief indices, relief rate, shape index and hypsodonty (``_relief``), and
-the footprint those relief indices divide by (``_footprint``).
+- ``dne``: Dirichlet normal energy (molaR's classic DNE with its convex/concave split,
+  doolkit's DNE; ariaDNE is :mod:`dentopo.ariadne`);
+- ``slope``: face slope, inclination and bearing;
+- ``curvature``: ARC (molaR's and doolkit's) and doolkit's angularity;
+- ``opc``: orientation patch count and its rotated mean;
+- ``relief``: relief index and the other height measures (molaR's RFI with its alpha search,
+  doolkit's relief indices, relief rate, shape index, hypsodonty);
+- ``footprint``: the outline projected on the occlusal plane (molaR's alpha shape on a
+  certified Delaunay triangulation; doolkit's convex or concave hull, a port of concaveman);
+- ``surface``: how each tool reads the crown (molaR's surface preparation, the float32 VCG
+  emulation), which way it points, and the compiled passes the families share.
+
+The checks of parameters (``_parameters``), units (``_units``) and the registry of metric names
+for a batch (``_metrics``, ariaDNE included) sit at this level, shared by every family.  The
+public names are those below, all importable from :mod:`dentopo.topography`; the subpackages are
+the layout, not the API.
 
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
 """
 
-from ._angles import (
-    DOOLKIT_SLOPE_FIELDS,
-    INCLINATION_FIELDS,
-    DoolkitSlopeResult,
-    InclinationResult,
-    doolkit_slope,
-    face_bearing,
-    inclination,
-)
-from ._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
-from ._arc import ARC_FIELDS, DOOLKIT_ARC_FIELDS, ARCResult, DoolkitARCResult, arc, doolkit_arc
-from ._classic_dne import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
-from ._dne_doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
-from ._footprint import (
-    FOOTPRINT_FIELDS,
-    HULLS,
-    FootprintResult,
-    concave_hull,
-    convex_hull,
-    footprint_area,
-)
 from ._metrics import (
     ALIASES,
     ALL,
@@ -65,9 +42,6 @@ from ._metrics import (
     rotation_key,
     rotations,
 )
-from ._opc import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
-from ._opc_doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
-from ._orientation import ORIENT_MODES, Orientation, check_orient, find_orientation, orient_vertices
 from ._parameters import (
     BOUNDARY_RULES,
     check_alpha,
@@ -80,7 +54,29 @@ from ._parameters import (
     check_min_area,
     check_opcr_options,
 )
-from ._relief import (
+from ._units import UNIT_DEPENDENT, UNITS, UnitWarning, millimetres_per_unit
+from .curvature._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
+from .curvature._arc import (
+    ARC_FIELDS,
+    DOOLKIT_ARC_FIELDS,
+    ARCResult,
+    DoolkitARCResult,
+    arc,
+    doolkit_arc,
+)
+from .dne._doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
+from .dne._molar import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
+from .footprint._doolkit import (
+    FOOTPRINT_FIELDS,
+    HULLS,
+    FootprintResult,
+    concave_hull,
+    convex_hull,
+    footprint_area,
+)
+from .opc._doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
+from .opc._molar import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
+from .relief._doolkit import (
     HYPSODONTY_FIELDS,
     RELIEF_INDEX_FIELDS,
     SHAPE_INDEX_FIELDS,
@@ -97,7 +93,7 @@ from ._relief import (
     relief_rate_below_median,
     shape_index,
 )
-from ._rfi import (
+from .relief._molar import (
     RFI_FIELDS,
     AlphaAdjustmentError,
     FootprintError,
@@ -105,8 +101,17 @@ from ._rfi import (
     RFIResult,
     rfi,
 )
-from ._slope import SLOPE_FIELDS, SlopeResult, slope
-from ._surface import (
+from .slope._doolkit import (
+    DOOLKIT_SLOPE_FIELDS,
+    INCLINATION_FIELDS,
+    DoolkitSlopeResult,
+    InclinationResult,
+    doolkit_slope,
+    face_bearing,
+    inclination,
+)
+from .slope._molar import SLOPE_FIELDS, SlopeResult, slope
+from .surface._molar import (
     DUPLICATE_MODES,
     Surface,
     check_duplicates,
@@ -114,7 +119,13 @@ from ._surface import (
     molar_scale,
     prepare_surface,
 )
-from ._units import UNIT_DEPENDENT, UNITS, UnitWarning, millimetres_per_unit
+from .surface._orientation import (
+    ORIENT_MODES,
+    Orientation,
+    check_orient,
+    find_orientation,
+    orient_vertices,
+)
 
 __all__ = [
     "ALIASES",

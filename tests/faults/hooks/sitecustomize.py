@@ -70,7 +70,7 @@ if _KERNEL:
     _kernel.euclidean_moments = euclidean_moments
 
 if _DELAUNAY:
-    import dentopo.topography._alphahull as _alphahull
+    import dentopo.topography.footprint._alphahull as _alphahull
 
     _real_delaunay = _alphahull.delaunay
 

@@ -14,10 +14,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from . import _kernels
-from ._orientation import Orientation, check_orient
-from ._surface import prepare_surface
+from ..._html_repr import result_html
+from ..surface import _kernels
+from ..surface._molar import prepare_surface
+from ..surface._orientation import Orientation, check_orient
 
 #: Scalar fields, in the order of output tables.
 SLOPE_FIELDS = ("slope",)

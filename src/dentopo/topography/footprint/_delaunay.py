@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import Delaunay
 
-from .._jit import njit
+from ..._jit import njit
 
 #: Shewchuk's static error bounds of the orientation and in-circle determinants.
 _EPS = np.ldexp(1.0, -53)

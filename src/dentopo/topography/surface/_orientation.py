@@ -56,7 +56,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..mesh import boundary_edges, orient_consistently
+from ...mesh import boundary_edges, orient_consistently
 from . import _kernels
 
 #: ``orient``: ``"auto"`` (the default: turn a crown pointing to -z, rewind faces wound

@@ -32,11 +32,11 @@ from functools import cached_property
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from ..mesh import as_arrays
-from . import _kernels
-from ._orientation import TURN, Orientation, check_orient, find_orientation
-from ._surface import Surface, drop_unused, molar_face_areas
+from ..._html_repr import result_html
+from ...mesh import as_arrays
+from ..surface import _kernels
+from ..surface._molar import Surface, drop_unused, molar_face_areas
+from ..surface._orientation import TURN, Orientation, check_orient, find_orientation
 
 #: Scalar fields of doolkit's slope and inclination, in the order of output tables.
 DOOLKIT_SLOPE_FIELDS = ("slope_mean",)
@@ -315,7 +315,7 @@ class DoolkitSlopeResult:
     """doolkit's mean face slope for one mesh (``slope``).
 
     Per-face arrays follow the faces of the mesh as doolkit reads it (see
-    :mod:`dentopo.topography._angles`: exact duplicates merged, faces kept in
+    :mod:`dentopo.topography.slope._doolkit`: exact duplicates merged, faces kept in
     their order).
 
     Attributes
@@ -392,7 +392,7 @@ def doolkit_slope(mesh) -> DoolkitSlopeResult:
     1. **Mesh.** Read as ``Rvcg::vcgImport(clean = TRUE)`` leaves it
        (coordinates in single precision, exact duplicate vertices merged,
        duplicate faces and unused vertices dropped; see
-       :mod:`dentopo.topography._angles`).  The caller's mesh is never modified.
+       :mod:`dentopo.topography.slope._doolkit`).  The caller's mesh is never modified.
     2. **Per face.** Unit normal ``n`` of ``(v2 - v1) x (v3 - v1)`` in double
        precision (``Morpho::facenormals``); slope
        ``90 - acos(sqrt(nx^2 + ny^2) / |n|)`` in degrees: the angle of the

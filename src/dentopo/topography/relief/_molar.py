@@ -24,11 +24,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from ._alphahull import FAN_INSIDE, FAN_UNDEFINED, AlphaHull, Arcs, chain
-from ._orientation import Orientation, check_orient
-from ._parameters import check_alpha, check_find_alpha
-from ._surface import molar_face_areas, molar_scale, prepare_surface
+from ..._html_repr import result_html
+from .._parameters import check_alpha, check_find_alpha
+from ..footprint._alphahull import FAN_INSIDE, FAN_UNDEFINED, AlphaHull, Arcs, chain
+from ..surface._molar import molar_face_areas, molar_scale, prepare_surface
+from ..surface._orientation import Orientation, check_orient
 
 #: Scalar fields, in the order of output tables.
 RFI_FIELDS = ("rfi", "area_3d", "area_2d", "alpha")

@@ -24,10 +24,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import trimesh
 
-from ..mesh import as_arrays
+from ...mesh import as_arrays
+from .._parameters import check_choice
 from . import _kernels
 from ._orientation import TURN, Orientation, check_orient, survey
-from ._parameters import check_choice
 
 #: molaR rescales a mesh so that its size measure is this.
 SIZE_TARGET = 100.0

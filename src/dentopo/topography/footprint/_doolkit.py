@@ -24,11 +24,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._html_repr import result_html
-from .._jit import njit
-from . import _concaveman, _units
-from ._orientation import Orientation, check_orient
-from ._surface import prepare_surface
+from ..._html_repr import result_html
+from ..._jit import njit
+from .. import _units
+from ..surface._molar import prepare_surface
+from ..surface._orientation import Orientation, check_orient
+from . import _concaveman, _jsmath
 
 #: The hulls :func:`footprint_area` draws.
 HULLS = ("concave", "convex")
@@ -255,7 +256,7 @@ def concave_hull(points, *, concavity: float = 2.0, length_threshold: float = 0.
 
     The JavaScript library concaveman 1.1 (Agafonkin, Mapbox), ported so that
     it returns the same ring, point for point, ties included
-    (:mod:`dentopo.topography._concaveman`).  From the convex hull, each edge
+    (:mod:`dentopo.topography.footprint._concaveman`).  From the convex hull, each edge
     in turn, first in first out, is bent inward through the point left
     inside that is nearest to it, when that point is nearer to this edge than
     to the two neighbouring edges, joining it crosses no edge of the outline,
@@ -325,7 +326,7 @@ def _concave_ring(p: np.ndarray, concavity: float, length_threshold: float) -> n
 
 def _convex_ring(p: np.ndarray) -> np.ndarray:
     out = np.empty(2 * len(p) + 3, dtype=np.int64)  # coincident points may come twice
-    ring = out[: _concaveman.fast_convex_hull(p, out)]
+    ring = out[: _jsmath.fast_convex_hull(p, out)]
     # a point can come twice only when all points coincide: keep it once
     keep = ring != np.roll(ring, 1)
     keep[0] = True

@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from .._jit import njit
-from ..mesh._faces import _sorted3, corner_cross, normalise_rows
+from ..._jit import njit
+from ...mesh._faces import _sorted3, corner_cross, normalise_rows
 
 
 def readonly(array: np.ndarray) -> np.ndarray:

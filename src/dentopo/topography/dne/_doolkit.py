@@ -17,10 +17,10 @@ from numbers import Real
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from .._jit import njit
-from . import _vcg
-from ._surface import prepare_surface
+from ..._html_repr import result_html
+from ..._jit import njit
+from ..surface import _vcg
+from ..surface._molar import prepare_surface
 
 #: Scalar fields, in the order of output tables.
 DOOLKIT_DNE_FIELDS = ("dne_total", "dne_total_unrounded")

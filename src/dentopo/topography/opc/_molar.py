@@ -19,13 +19,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from . import _kernels
-from ._metrics import rotation_key
-from ._metrics import rotations as opcr_rotations
-from ._orientation import Orientation, check_orient
-from ._parameters import check_finite, check_int, check_min_area, check_opcr_options
-from ._surface import Surface, prepare_surface
+from ..._html_repr import result_html
+from .._metrics import rotation_key
+from .._metrics import rotations as opcr_rotations
+from .._parameters import check_finite, check_int, check_min_area, check_opcr_options
+from ..surface import _kernels
+from ..surface._molar import Surface, prepare_surface
+from ..surface._orientation import Orientation, check_orient
 
 #: Number of aspect bins.
 BINS = 8

@@ -26,12 +26,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from .._jit import njit
-from ._angles import DoolkitMesh, doolkit_mesh
-from ._kernels import _find
-from ._orientation import Orientation, check_orient
-from ._parameters import check_finite, check_int
+from ..._html_repr import result_html
+from ..._jit import njit
+from .._parameters import check_finite, check_int
+from ..slope._doolkit import DoolkitMesh, doolkit_mesh
+from ..surface._kernels import _find
+from ..surface._orientation import Orientation, check_orient
 
 #: doolkit's default number of bins.
 DOOLKIT_BINS = 8
@@ -176,7 +176,7 @@ class DoolkitOPCResult:
     """doolkit's orientation patch count for one mesh at one rotation (``opc``).
 
     Per-face arrays follow the faces of the mesh as doolkit reads it (see
-    :mod:`dentopo.topography._angles`); per-patch arrays follow the labels of
+    :mod:`dentopo.topography.slope._doolkit`); per-patch arrays follow the labels of
     ``face_patch``.
 
     Attributes
@@ -369,7 +369,7 @@ def doolkit_opc(
        of exactly 360 at rotation 0, or one left uncovered by a negative
        rotation) is in no patch.  No slope threshold.
     3. **Patches.** Faces of one bin joined along doolkit's face-face edges
-       (see :mod:`dentopo.topography._opc_doolkit`: on a manifold mesh, two
+       (see :mod:`dentopo.topography.opc._doolkit`: on a manifold mesh, two
        faces sharing an edge; a shared vertex is not enough); a patch is a
        connected group (igraph's components).  Patches of at least
        `min_size` faces count.

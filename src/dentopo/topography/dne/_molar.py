@@ -17,11 +17,11 @@ from numbers import Real
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from . import _kernels
-from ._orientation import Orientation, check_orient
-from ._parameters import BOUNDARY_RULES, check_choice, check_outliers
-from ._surface import Surface, molar_scale, prepare_surface
+from ..._html_repr import result_html
+from .._parameters import BOUNDARY_RULES, check_choice, check_outliers
+from ..surface import _kernels
+from ..surface._molar import Surface, molar_scale, prepare_surface
+from ..surface._orientation import Orientation, check_orient
 
 BOUNDARY_MODES = BOUNDARY_RULES
 OUTLIER_MODES = ("combined", "separate")

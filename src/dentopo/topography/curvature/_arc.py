@@ -20,9 +20,10 @@ from numbers import Real
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from . import _units, _vcg
-from ._surface import molar_face_areas, molar_scale, prepare_surface
+from ..._html_repr import result_html
+from .. import _units
+from ..surface import _vcg
+from ..surface._molar import molar_face_areas, molar_scale, prepare_surface
 
 #: Scalar fields of molaR's ARC, in the order of output tables.
 ARC_FIELDS = ("arc", "arc_positive", "arc_negative")

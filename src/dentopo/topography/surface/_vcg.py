@@ -65,9 +65,9 @@ import math
 
 import numpy as np
 
-from .._jit import njit
+from ..._jit import njit
+from .._parameters import BOUNDARY_RULES
 from ._kernels import readonly
-from ._parameters import BOUNDARY_RULES
 
 #: float32's machine epsilon: vertices with a mixed area at or below it get curvature 0.
 EPS32 = float(np.finfo(np.float32).eps)

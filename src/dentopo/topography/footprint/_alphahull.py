@@ -52,8 +52,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import QhullError
 
-from .._jit import njit
-from . import _kernels
+from ..._jit import njit
+from ..surface import _kernels
 from ._delaunay import delaunay
 
 #: :func:`fan_test`'s answers.

@@ -4,7 +4,7 @@ Every quantity here follows doolkit's definitions and its precision: face
 areas and barycentres come from Rvcg (vcglib) in single precision, the rest
 is double precision, and four values are rounded to 2 decimals with R's
 ``round`` (:func:`r_round`).  The mesh is read as doolkit reads it (see
-:mod:`dentopo.topography._angles`).
+:mod:`dentopo.topography.slope._doolkit`).
 
 Elevation, the Guy relief index and the relief rate depend on which way the
 crown points (doolkit assumes +z and never checks); shape index and
@@ -20,11 +20,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from . import _units
-from ._angles import DoolkitMesh, doolkit_mesh
-from ._footprint import check_hull, footprint_result, rounding_text
-from ._orientation import TURN, Orientation, check_orient
+from ..._html_repr import result_html
+from .. import _units
+from ..footprint._doolkit import check_hull, footprint_result, rounding_text
+from ..slope._doolkit import DoolkitMesh, doolkit_mesh
+from ..surface._orientation import TURN, Orientation, check_orient
 
 #: Scalar fields, in the order of output tables.
 RELIEF_INDEX_FIELDS = ("rfi_ungar", "rfi_boyer", "rfi_guy", "area3d", "area2d")

@@ -17,10 +17,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from .._html_repr import result_html
-from .._jit import njit
-from . import _vcg
-from ._surface import prepare_surface
+from ..._html_repr import result_html
+from ..._jit import njit
+from ..surface import _vcg
+from ..surface._molar import prepare_surface
 
 #: Scalar fields, in the order of output tables.
 ANGULARITY_FIELDS = ("angularity_mean",)

@@ -1,0 +1,9 @@
+"""Relief: surface area over footprint area, and the other height measures.
+
+``_molar``: molaR's ``RFI`` with its alpha-shape footprint and its search for an alpha;
+``_doolkit``: doolkit's elevation, Ungar, Boyer and Guy relief indices, relief rate, shape index
+and hypsodonty.
+
+May import: :mod:`dentopo.mesh`, :mod:`dentopo.topography.surface`,
+:mod:`dentopo.topography.footprint`, :mod:`dentopo.topography.slope` and the shared checks.
+"""
