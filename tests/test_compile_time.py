@@ -17,7 +17,7 @@ from numba.core import event
 
 from dentopo import compute_batch
 from dentopo._jit import compile_seconds
-from dentopo.batch import _runner
+from dentopo.batch import _task
 from dentopo.cli import _compiling, main
 from dentopo.samples import sample_paths
 from dentopo.topography import check_metrics
@@ -34,7 +34,7 @@ def tooth():
 
 def _compiling_measure(monkeypatch, compilations: int, pause: float = PAUSE):
     """measure_mesh that first 'compiles' `compilations` times for `pause` seconds each."""
-    real = _runner.measure_mesh
+    real = _task.measure_mesh
 
     def measure(*args, **kwargs):
         for _ in range(compilations):
@@ -42,7 +42,7 @@ def _compiling_measure(monkeypatch, compilations: int, pause: float = PAUSE):
                 time.sleep(pause)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(_runner, "measure_mesh", measure)
+    monkeypatch.setattr(_task, "measure_mesh", measure)
 
 
 def test_compile_seconds_counts_a_real_compilation_and_not_a_compiled_call():
@@ -85,13 +85,13 @@ def test_a_rows_seconds_leave_out_the_compilation(tooth, monkeypatch):
 
 def test_without_a_compilation_the_pause_is_in_the_seconds(tooth, monkeypatch):
     """The control: time that is not compilation stays in ``seconds`` (the test above can fail)."""
-    real = _runner.measure_mesh
+    real = _task.measure_mesh
 
     def slow(*args, **kwargs):
         time.sleep(PAUSE)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(_runner, "measure_mesh", slow)
+    monkeypatch.setattr(_task, "measure_mesh", slow)
     [row] = compute_batch(tooth)
     assert row["seconds"] >= PAUSE
 

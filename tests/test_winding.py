@@ -75,7 +75,7 @@ def test_two_holes_get_two_caps():
 
 
 def test_long_cap_triangles_are_cut_without_changing_the_surface(tooth):
-    from dentopo.sign._winding import _split_long
+    from dentopo.sign._strips import _split_long
 
     vertices, faces = close_holes(np.asarray(tooth.vertices), np.asarray(tooth.faces))
     tri = vertices[faces]
@@ -117,7 +117,7 @@ def test_fractional_winding_numbers_of_an_open_surface(sphere):
 
 
 def test_a_far_vertex_adds_few_strips_and_keeps_the_winding_number(sphere):
-    from dentopo.sign._winding import STRIP_BUDGET, _split_long
+    from dentopo.sign._strips import STRIP_BUDGET, _split_long
 
     vertices = np.vstack([sphere.vertices, [[3e6, 1e6, 2e6]]])
     far = len(vertices) - 1
@@ -159,7 +159,7 @@ def test_points_on_the_surface_cost_a_bounded_amount_of_work(monkeypatch):
 
 
 def test_strip_budget_caps_only_the_largest_requests():
-    from dentopo.sign._winding import _capped
+    from dentopo.sign._strips import _capped
 
     wanted = np.array([3, 1, 500, 2, 40, 0])
     np.testing.assert_array_equal(_capped(wanted, 1000), wanted)  # within the budget
@@ -209,7 +209,8 @@ def test_points_near_an_open_crown_capped_agree_with_the_exact_test(tooth):
 def test_the_near_field_product_equals_the_sum_of_arctangents(sphere):
     # with an infinite far-field ratio every triangle is near: the product of ``_near_product``
     # against the sum of arctangents of ``_exact``, also for points on the surface
-    from dentopo.sign._winding import _approximate, _exact, _ordered_triangles, _tree
+    from dentopo.sign._hierarchy import _ordered_triangles, _tree
+    from dentopo.sign._winding import _approximate, _exact
 
     rng = np.random.default_rng(5)
     points = np.vstack(
@@ -227,7 +228,7 @@ def test_the_near_field_product_equals_the_sum_of_arctangents(sphere):
 
 def test_the_hierarchy_holds_its_triangles():
     # every triangle once, each node's sphere holds its vertices, its area vector is the sum
-    from dentopo.sign._winding import _DIPOLE, _RADIUS, _ordered_triangles, _shape, _tree
+    from dentopo.sign._hierarchy import _DIPOLE, _RADIUS, _ordered_triangles, _shape, _tree
 
     slab = _thin_slab(0.2)
     tri = _ordered_triangles(slab.vertices, slab.faces)
@@ -248,7 +249,7 @@ def test_the_hierarchy_holds_its_triangles():
 
 
 def test_node_count_is_that_of_the_layout():
-    from dentopo.sign._winding import _node_count
+    from dentopo.sign._hierarchy import _node_count
 
     def halving(n, leaf):  # the ranges of ``_layout``, one by one
         ranges, count = [n], 0

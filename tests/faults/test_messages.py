@@ -93,7 +93,7 @@ def test_a_full_stderr_still_writes_the_table(mesh, tmp_path):
 BROKEN = """
 import sys
 import dentopo.batch._measure as measure
-import dentopo.batch._runner as runner
+import dentopo.batch._task as task
 from dentopo.cli import main
 
 def fail(kind, message=""):
@@ -104,14 +104,14 @@ def fail(kind, message=""):
 measure.rfi = fail(ZeroDivisionError, "float division by zero")
 measure.opc = fail(IndexError, "index 7 is out of bounds for axis 0 with size 3")
 measure.slope = fail(MemoryError)
-real_load = runner.load_mesh
+real_load = task.load_mesh
 
 def load_mesh(path, **kwargs):
     if path.endswith("b.ply"):
         raise KeyError("vertex")
     return real_load(path, **kwargs)
 
-runner.load_mesh = load_mesh
+task.load_mesh = load_mesh
 sys.exit(main(sys.argv[1:]))
 """
 

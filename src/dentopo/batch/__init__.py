@@ -3,7 +3,10 @@
 ``_inputs`` turns files, folders and glob patterns into a sorted list of mesh
 files; ``_runner`` computes them (one process, a local pool of workers, or a
 Dask cluster), one record per file, resumable, one bad file never stopping the
-batch.  ``_pool`` is the local pool, which survives a worker's death;
+batch: ``_settings`` holds what a batch computes with (checked before any file),
+``_task`` the computation of one file and its record (``_measure`` its metrics),
+``_resume`` which rows of a previous table are kept.  ``_pool`` is the local
+pool, which survives a worker's death;
 ``_interrupts`` makes Ctrl-C and SIGTERM stop a batch, never inside a critical section;
 ``_prepare`` prepares raw scans (:mod:`dentopo.prepare`) in a batch, a mesh and a record each.
 
@@ -33,27 +36,24 @@ from ._prepare import (
     run_preparation,
 )
 from ._result import BatchResult, to_dataframe
+from ._resume import merge_records, protocol_digest, relabel_resumed, resumable_files
 from ._runner import (
-    Outcome,
-    Settings,
-    Task,
     available_cores,
-    check_extras,
     compute_batch,
+    plan_batch,
+    replaced_message,
+    replaced_per_vertex_files,
+    run_tasks,
+)
+from ._settings import Settings, check_extras, make_settings
+from ._task import (
+    Outcome,
+    Task,
     compute_task,
     error_reason,
     error_record,
-    make_settings,
-    merge_records,
-    plan_batch,
     planned_per_vertex_files,
     prepared_mesh,
-    protocol_digest,
-    relabel_resumed,
-    replaced_message,
-    replaced_per_vertex_files,
-    resumable_files,
-    run_tasks,
 )
 
 __all__ = [

@@ -13,124 +13,38 @@ checks ``jobs=2`` against ``jobs=1`` bit for bit).
 Local workers are a pool of our own (:mod:`._pool`) that survives the death of
 a worker: only the file that worker held gets an error row.  In this process,
 Ctrl-C and SIGTERM raise :class:`Interrupted` (:mod:`._interrupts`).
+
+This module plans and runs a batch; the settings are :mod:`._settings`'s, the
+computation of one file :mod:`._task`'s, which previous rows are kept
+:mod:`._resume`'s.
 """
 
 from __future__ import annotations
 
 import os
-import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field, replace
-from functools import partial
+from dataclasses import replace
 
-from .._optional import DASK, FAST_METHOD, MissingExtraError
-from ..ariadne import check_bandwidth, check_cutoff, check_distance_type, check_method
+from .._optional import DASK
 from ..formats import (
-    COLUMNS,
     DEFAULT_PER_VERTEX_FORMATS,
-    METRIC_KEYS,
     OUTPUT_SUFFIX,
-    PROTOCOL_KEY,
     PerVertexOptions,
-    naming_the_file,
     per_vertex_names,
-    per_vertex_paths,
     read_table,
-    record_keys,
-    record_source,
     replaced_files,
-    write_per_face,
-    write_per_vertex,
 )
-from ..mesh import check_geometry, load_mesh
-from ..prepare import Protocol, load_protocol
-from ..sign import check_sign_method
-from ..topography import check_metrics, check_orient, rotation_key
-from ._errors import failure_reason
 from ._inputs import find_mesh_files
 from ._interrupts import Interrupted, guard_interrupts
-from ._measure import Measurement, TopographyOptions, measure_mesh
 from ._pool import run_pool
 from ._result import BatchResult
+from ._resume import merge_records, relabel_resumed, resumable_files
+from ._settings import Settings, check_extras, make_settings
+from ._task import Outcome, PhaseCallback, Task, compute_task, error_reason, error_record
 
 #: ``progress(done, total, record)`` is called after each file.
 ProgressCallback = Callable[[int, int, dict], None]
-
-_MAX_REASON = 500
-
-
-@dataclass(frozen=True)
-class Settings:
-    """What every mesh of a batch is computed with.
-
-    ``metrics`` says which metrics a row holds; the ariaDNE fields
-    (``bandwidth`` ... ``method``) and ``topography`` (molaR's options) are
-    output columns of their metrics: a row is only reused by ``--resume`` if
-    it holds every metric asked for, computed with the same settings.
-    ``threads`` and ``geometry`` are how, not what: ``geometry`` is how each
-    file is read (:func:`dentopo.mesh.load_mesh`); it is not a column, so
-    rows are only reused when it is None.  ``prepare`` is the preparation
-    protocol each mesh is prepared with in memory before it is measured
-    (:func:`dentopo.prepare`), or None: the ``protocol`` column holds its
-    label, and a row is only reused for the same protocol digest.
-    """
-
-    bandwidth: float = 0.08
-    cutoff: float = 0.0
-    distance_type: str = "euclidean"
-    sign_method: str = "centroid"
-    method: str = "auto"
-    threads: int | None = None  # numba threads per mesh; None: numba's default
-    geometry: str | None = None  # which mesh of a file holding several (load_mesh)
-    metrics: tuple[str, ...] = ("ariadne",)
-    topography: TopographyOptions = field(default_factory=TopographyOptions)
-    prepare: Protocol | None = None
-
-    @property
-    def protocol(self) -> str | None:
-        """The ``protocol`` cell of this batch's rows: the protocol's label, or None."""
-        return None if self.prepare is None else self.prepare.label
-
-    def options(self) -> dict:
-        """The ``ariaDNE`` keyword arguments."""
-        return {name: getattr(self, name) for name in ARIADNE_OPTIONS}
-
-    def rotations(self) -> tuple[float, ...]:
-        """OPCR's rotations (degrees) if OPCR is computed, else none."""
-        return self.topography.rotations() if "opcr" in self.metrics else ()
-
-    def keys(self) -> tuple[str, ...]:
-        """The keys of this batch's records, in table order."""
-        return record_keys(self.metrics, self.rotations())
-
-
-#: The fields of :class:`Settings` that are ``ariaDNE`` keywords.
-ARIADNE_OPTIONS = ("bandwidth", "cutoff", "distance_type", "sign_method", "method")
-
-
-@dataclass(frozen=True)
-class Task:
-    """One file of a batch: where to read it, what to call it, where its outputs go."""
-
-    index: int
-    file: str  # as shown in the table
-    path: str  # as opened (absolute for remote workers)
-    per_vertex_dir: str | None = None
-    per_vertex_name: str | None = None
-    keep_result: bool = False
-    per_vertex: PerVertexOptions = field(default_factory=PerVertexOptions)  # formats, colours
-    keys: tuple[str, ...] = COLUMNS  # the record's keys (an error row has them all, empty)
-
-
-@dataclass(frozen=True)
-class Outcome:
-    """What computing one task produced (``result`` only if it was asked for)."""
-
-    index: int
-    record: dict
-    warnings: tuple[str, ...] = ()
-    result: object = None
 
 
 def available_cores() -> int:
@@ -139,196 +53,6 @@ def available_cores() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
-
-
-def error_reason(exc: BaseException) -> str:
-    """A one-line reason for a failed file, for the ``error`` column."""
-    if isinstance(exc, FileNotFoundError):
-        reason = "file not found"
-    elif isinstance(exc, IsADirectoryError):
-        reason = "is a directory, not a mesh file"
-    elif isinstance(exc, PermissionError):
-        reason = f"unreadable: {exc.strerror or exc}"
-    elif isinstance(exc, OSError):
-        reason = f"unreadable: {exc}"
-    elif isinstance(exc, MemoryError):
-        reason = "out of memory"
-    elif isinstance(exc, (ValueError, TypeError, MissingExtraError)):
-        reason = str(exc)
-    else:
-        reason = f"{type(exc).__name__}: {exc}"
-    reason = " ".join(reason.split()) or type(exc).__name__
-    return reason if len(reason) <= _MAX_REASON else reason[: _MAX_REASON - 3] + "..."
-
-
-def error_record(
-    file: str, reason: str, seconds: float | None = None, keys: Iterable[str] = COLUMNS
-) -> dict:
-    """A table row for a file that failed: numbers empty, ``status="error"``."""
-    record = dict.fromkeys(keys)
-    record.update(file=file, seconds=seconds, status="error", error=reason)
-    return record
-
-
-#: ``on_phase(file, phase)`` is called as each phase of one mesh starts (see ``ariaDNE``).
-PhaseCallback = Callable[[str, str], None]
-
-
-def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None = None) -> Outcome:
-    """Compute one file; never raises for a bad file (the record says what went wrong).
-
-    The row's ``seconds`` leave out the time spent compiling kernels (a fresh
-    install's first meshes), so that they measure the computation alone.
-    """
-    import numba
-
-    from .._jit import compile_seconds
-
-    previous_threads = numba.get_num_threads()
-    if settings.threads is not None:  # per calling thread: safe in threaded workers
-        numba.set_num_threads(min(settings.threads, numba.config.NUMBA_NUM_THREADS))
-    start = time.perf_counter()
-    compiled = compile_seconds()
-
-    def elapsed() -> float:
-        return round(max(0.0, time.perf_counter() - start - (compile_seconds() - compiled)), 4)
-
-    measured = None
-    step = "reading"
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            try:
-                phases = None if on_phase is None else partial(on_phase, task.file)
-                mesh = task.path  # ariaDNE alone reads the file itself
-                if (
-                    settings.geometry is not None
-                    or settings.metrics != ("ariadne",)
-                    or settings.prepare is not None
-                ):
-                    mesh = load_mesh(task.path, geometry=settings.geometry)  # once for all
-                if settings.prepare is not None:
-                    step = "prepare"
-                    if phases is not None:
-                        phases("preparing")
-                    mesh = prepared_mesh(mesh, settings.prepare)
-                step = "measuring"
-                measured = measure_mesh(
-                    mesh,
-                    settings.metrics,
-                    ariadne_options=settings.options(),
-                    options=settings.topography,
-                    reason=error_reason,
-                    progress=phases,
-                )
-                step = "writing the per-vertex files"
-                if task.per_vertex_dir is not None and measured.status != "error":
-                    _write_per_mesh(task, measured, settings.protocol)
-            except Exception as exc:  # one bad file never stops the batch
-                seconds = elapsed()
-                if isinstance(exc, FileNotFoundError) and os.path.islink(task.path):
-                    reason = "unreadable: a broken symbolic link"
-                elif isinstance(exc, OSError) and step == "writing the per-vertex files":
-                    reason = _output_reason(task, exc)  # an output's fault, not the input's
-                else:
-                    reason = failure_reason(step, exc, error_reason)
-                reason = _shortened(reason)
-                record = error_record(task.file, reason, seconds, settings.keys())
-                record[PROTOCOL_KEY] = settings.protocol
-                measured = None
-            else:
-                seconds = elapsed()
-                if measured.status == "error":  # no metric computed: an error row
-                    record = error_record(task.file, measured.error, seconds, settings.keys())
-                    measured = None
-                else:
-                    record = {"file": task.file, **measured.record}
-                    record[PROTOCOL_KEY] = settings.protocol  # in table order: before seconds
-                    record.update(seconds=seconds, status=measured.status, error=measured.error)
-                record[PROTOCOL_KEY] = settings.protocol
-    finally:
-        numba.set_num_threads(previous_threads)
-    messages = tuple(dict.fromkeys(str(w.message) for w in caught))
-    record["warnings"] = "; ".join(messages) or None
-    return Outcome(task.index, record, messages, measured if task.keep_result else None)
-
-
-def prepared_mesh(mesh, protocol: Protocol):
-    """`mesh` prepared by `protocol` (:func:`dentopo.prepare`), as a new trimesh.
-
-    The protocol's warnings are issued again prefixed ``prepare:`` (so that a
-    row's ``warnings`` say which came from preparing); a step that fails
-    raises (the file's error row names it).
-    """
-    from ..prepare import prepare
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        crown = prepare(mesh, protocol)
-    for warning in caught:
-        warnings.warn(f"prepare: {warning.message}", warning.category, stacklevel=2)
-    return crown.mesh
-
-
-def _shortened(reason: str) -> str:
-    reason = " ".join(reason.split())
-    return reason if len(reason) <= _MAX_REASON else reason[: _MAX_REASON - 3] + "..."
-
-
-def _output_reason(task: Task, exc: OSError) -> str:
-    """The row's error when a per-vertex or per-face file cannot be written (a full disk)."""
-    why = exc.strerror or str(exc) or type(exc).__name__
-    if exc.filename is not None:
-        where = f"the per-vertex file {os.fspath(exc.filename)!r}"
-    else:
-        where = f"the per-vertex files of {task.per_vertex_name!r} in {task.per_vertex_dir!r}"
-    return f"cannot write {where}: {why} (an output failed, not the input; rerun to write it)"
-
-
-def _write_per_mesh(task: Task, measured: Measurement, protocol: str | None = None) -> None:
-    """The per-vertex files (ariaDNE) and per-face files (slope, OPC) of one mesh."""
-    options = task.per_vertex
-    ariadne = measured.results.get("ariadne")
-    if ariadne is not None:
-        write_per_vertex(
-            task.per_vertex_dir,
-            task.per_vertex_name,
-            ariadne,
-            formats=options.formats,
-            limits=options.limits,
-            percentile=options.percentile,
-        )
-    faces = {
-        metric: measured.results[metric]
-        for metric in PER_FACE_METRICS
-        if metric in measured.results
-    }
-    if faces:
-        base = os.path.join(task.per_vertex_dir, task.per_vertex_name + ".dentopo.faces.*")
-        with naming_the_file(base):
-            write_per_face(
-                task.per_vertex_dir, task.per_vertex_name, faces, formats=options.formats
-            )
-    if ariadne is not None or faces:  # which mesh these files are (replaced_per_vertex_files)
-        record_source(task.per_vertex_dir, task.per_vertex_name, task.path, protocol)
-
-
-#: The metrics with per-face files (``NAME.dentopo.faces.*``) in the per-vertex folder.
-PER_FACE_METRICS = ("slope", "opc", "opcr")
-
-
-def planned_per_vertex_files(task: Task, metrics: Iterable[str]) -> list[str]:
-    """The per-vertex and per-face files `task` writes if its metrics succeed (none without)."""
-    if task.per_vertex_dir is None:
-        return []
-    metrics = tuple(metrics)
-    return per_vertex_paths(
-        task.per_vertex_dir,
-        task.per_vertex_name,
-        task.per_vertex.formats,
-        vertices="ariadne" in metrics,
-        faces=any(m in metrics for m in PER_FACE_METRICS),
-    )
 
 
 def replaced_per_vertex_files(tasks: Sequence[Task]) -> list[tuple[str, str, str | None, str]]:
@@ -438,89 +162,6 @@ def replaced_message(directory: str, name: str, previous: str | None, source: st
     )
 
 
-def resumable_files(previous: Iterable[dict], settings: Settings) -> set[str]:
-    """Files (as absolute paths) with an ``ok`` row holding what `settings` computes.
-
-    The row must hold a value for every metric asked for (a row of more
-    metrics serves a run of fewer), computed with the same settings: those
-    of ariaDNE (with ``method="auto"`` a row computed by either method
-    counts, as auto may pick either; otherwise the recorded method must
-    match) and of the topography metrics.  With a ``geometry`` no row counts:
-    the table does not record which mesh was read.  The row's ``protocol``
-    must name the same protocol digest as `settings.prepare` (the first 12
-    hex digits the label holds), or both none: a row measured as read is
-    not reused for a prepared run, nor the other way round.
-    """
-    reusable = _reusable(settings)
-    return {os.path.abspath(r["file"]) for r in previous if reusable(r) and r.get("file")}
-
-
-def relabel_resumed(previous: Iterable[dict], settings: Settings) -> list[dict]:
-    """`previous`, each row `settings` could reuse labelled with this run's protocol.
-
-    Rows are reused for the same protocol digest (:func:`resumable_files`): the
-    digest covers every step, the name nothing that is computed.  A protocol
-    renamed since keeps its rows, under its new name, so that a table never
-    names one protocol two ways (the report groups and finds protocols by the
-    label).  Changed rows are copies; those passed in are untouched.
-    """
-    label = settings.protocol
-    reusable = _reusable(settings)
-    return [
-        {**r, PROTOCOL_KEY: label}
-        if label is not None and r.get(PROTOCOL_KEY) != label and reusable(r)
-        else r
-        for r in previous
-    ]
-
-
-def _reusable(settings: Settings) -> Callable[[dict], bool]:
-    """Whether a row holds what `settings` computes (see :func:`resumable_files`)."""
-    if settings.geometry is not None:
-        return lambda record: False
-    digest = None if settings.prepare is None else settings.prepare.digest[:12]
-    wanted = dict(settings.topography.settings(settings.metrics))
-    if "ariadne" in settings.metrics:
-        wanted.update(settings.options())
-        if wanted["method"] == "auto":
-            del wanted["method"]
-    values = [
-        key
-        for metric in settings.metrics
-        for key in METRIC_KEYS[metric]
-        if key not in ARIADNE_OPTIONS
-    ]
-    values += [rotation_key(degrees) for degrees in settings.rotations()]
-
-    def reusable(record: dict) -> bool:
-        return (
-            record.get("status") == "ok"
-            and all(record.get(name) == value for name, value in wanted.items())
-            and all(record.get(key) is not None for key in values)
-            and protocol_digest(record.get(PROTOCOL_KEY)) == digest
-        )
-
-    return reusable
-
-
-def protocol_digest(label) -> str | None:
-    """The short digest in a ``protocol`` cell (``"crown-10k 3f2a9c1e0b7d"``), or None if empty.
-
-    A cell that is not a label (no digest after the name) gives itself, which
-    matches no protocol.
-    """
-    if label is None or (isinstance(label, float) and label != label) or str(label) == "":
-        return None
-    return str(label).rsplit(" ", 1)[-1]
-
-
-def merge_records(previous: Iterable[dict], new: Iterable[dict]) -> list[dict]:
-    """Previous rows overridden by new rows for the same file, sorted by file."""
-    merged = {os.path.abspath(r["file"]): r for r in previous if r.get("file")}
-    merged.update({os.path.abspath(r["file"]): r for r in new})
-    return sorted(merged.values(), key=lambda r: r["file"])
-
-
 def plan_batch(
     files: Sequence[str],
     settings: Settings,
@@ -578,110 +219,6 @@ def run_tasks(
     if scheduler is not None:
         return _run_dask(tasks, settings, scheduler)
     return _run_local(tasks, settings, jobs, on_phase)
-
-
-def check_extras(settings: Settings, *, scheduler=None) -> None:
-    """Check that the extras a batch needs here are installed, before computing anything.
-
-    A `scheduler` needs dask.distributed in this process; ``method="fast"``
-    needs finufft where the meshes are computed, i.e. here unless they run on
-    a scheduler (whose workers report a missing finufft per file).  Cheap:
-    nothing is imported.
-
-    Raises
-    ------
-    dentopo._optional.MissingExtraError
-        Naming the extra to install.
-    """
-    if scheduler is not None:
-        if isinstance(scheduler, str):  # a Client passed in proves distributed is there
-            DASK.check()
-    elif settings.method == "fast":
-        FAST_METHOD.check()
-
-
-def make_settings(
-    *,
-    bandwidth: float = 0.08,
-    cutoff: float = 0.0,
-    distance_type: str = "euclidean",
-    sign_method: str = "centroid",
-    method: str = "auto",
-    threads: int | None = None,
-    geometry: str | None = None,
-    metrics: str | Iterable[str] = ("ariadne",),
-    alpha: float = 0.075,
-    find_alpha: bool = False,
-    opcr_steps: int = 8,
-    opcr_step: float = 5.625,
-    min_faces: int = 3,
-    min_area: float = 0.0,
-    dne_outliers: float = 0.1,
-    dne_boundary: str = "vertex",
-    dne_kappa: float = 0.0,
-    arc_boundary: str = "vertex",
-    arc_range: tuple[float, float] = (0.01, 0.99),
-    orient: str = "auto",
-    duplicates: str = "drop",
-    prepare=None,
-    unit=None,
-) -> Settings:
-    """Validated batch settings (the same checks as the metrics, made once up front).
-
-    `prepare` is a preparation protocol (a :class:`dentopo.Protocol`, the
-    name of a shipped one, a TOML file's path) or None; it is read and
-    checked here, before any file.
-
-    Raises
-    ------
-    TypeError, ValueError
-        Naming the offending option (:class:`dentopo.ProtocolError`, a
-        ``ValueError``, for the protocol).
-    """
-    bandwidth = check_bandwidth(bandwidth)
-    cutoff = check_cutoff(cutoff)
-    if threads is not None and (
-        isinstance(threads, bool) or not isinstance(threads, int) or threads < 1
-    ):
-        raise ValueError(f"threads must be a positive integer or None; got {threads!r}")
-    return Settings(
-        bandwidth=bandwidth,
-        cutoff=cutoff,
-        distance_type=check_distance_type(distance_type),
-        sign_method=check_sign_method(sign_method),
-        method=check_method(method),
-        threads=threads,
-        geometry=check_geometry(geometry),
-        metrics=check_metrics(metrics),
-        topography=TopographyOptions(
-            alpha=alpha,
-            find_alpha=find_alpha,
-            opcr_steps=opcr_steps,
-            opcr_step=opcr_step,
-            min_faces=min_faces,
-            min_area=min_area,
-            dne_outliers=dne_outliers,
-            dne_boundary=dne_boundary,
-            dne_kappa=dne_kappa,
-            arc_boundary=arc_boundary,
-            arc_range=arc_range,
-            orient=check_orient(orient),
-            duplicates=duplicates,
-            unit=unit,
-        ),
-        prepare=None if prepare is None else _check_protocol(prepare),
-    )
-
-
-def _check_protocol(prepare) -> Protocol:
-    """The protocol `prepare` names, read and checked (a file that cannot be read: ValueError)."""
-    try:
-        return load_protocol(prepare)
-    except OSError as exc:
-        where = exc.filename if exc.filename is not None else prepare
-        raise ValueError(
-            f"cannot read the protocol {os.fspath(where)!r}: {exc.strerror or exc}"
-        ) from None
 
 
 def _check_jobs(jobs) -> int:

@@ -1,9 +1,11 @@
 """How each vertex's sign (convex +, concave -) is decided.
 
 The sign methods of ``ariaDNE`` (``_methods``): the paper's centroid test, which
-uses the exact generalised winding number (``_winding``), and the curvature-measure
-alternatives built on trimesh's discrete mean and Gaussian curvature measures
-(``_measures``).
+uses the exact generalised winding number (``_winding``: solid angles, queries and
+the public functions; ``_hierarchy``: the bounding-volume hierarchy over the
+triangles; ``_strips``: long triangles and needles cut into strips), and the
+curvature-measure alternatives built on trimesh's discrete mean and Gaussian
+curvature measures (``_measures``).
 
 May import: :mod:`dentopo.mesh`.  Nothing from ariadne, topography, figures,
 formats, batch, study or cli.
