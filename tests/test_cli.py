@@ -293,7 +293,7 @@ def test_a_failed_write_keeps_the_old_output(tmp_path, capsys, monkeypatch):
     def disk_full(layout, value):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr("dentopo.formats._tables.Layout.text", disk_full)
+    monkeypatch.setattr("dentopo.formats._layouts.Layout.text", disk_full)
     assert main([str(mesh), "-o", str(out)]) == 1
     assert "No space left" in capsys.readouterr().err
     assert out.read_text() == "precious results\n"
@@ -542,7 +542,7 @@ def test_phases_of_a_slow_mesh_are_reported(tmp_path, capsys, monkeypatch):
 
 def test_two_value_options_take_one_comma_separated_word_too(tmp_path):
     """``--arc-range 0.05,0.95`` (as the R and MATLAB bridges pass a vector) is the pair."""
-    from dentopo.cli._compute import split_pairs
+    from dentopo.cli._arguments import split_pairs
     from dentopo.samples import write_samples
 
     assert split_pairs(["--arc-range", "0.05,0.95", "x.ply"]) == [

@@ -14,7 +14,7 @@ import trimesh
 
 from dentopo import compute_batch
 from dentopo.cli import main
-from dentopo.cli._compute import SCHEDULER_ENV
+from dentopo.cli._arguments import SCHEDULER_ENV
 from dentopo.samples import tooth
 
 distributed = pytest.importorskip("distributed")

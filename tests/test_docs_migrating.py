@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from dentopo.cli import main
-from dentopo.cli._compute import build_parser
+from dentopo.cli._arguments import build_parser
 from dentopo.samples import tooth
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "coming-from" / "signdne.md"

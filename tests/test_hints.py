@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from dentopo.cli import main
-from dentopo.cli._compute import build_parser
+from dentopo.cli._arguments import build_parser
 from dentopo.cli._hints import CommandLineHints
 from dentopo.formats import read_table
 

@@ -350,7 +350,7 @@ def test_check_finds_a_missing_module_without_importing(monkeypatch):
 
 
 def test_show_is_the_primary_spelling_and_v_visualize_are_aliases():
-    from dentopo.cli._compute import build_parser
+    from dentopo.cli._arguments import build_parser
 
     parser = build_parser()
     for spelling in ("--show", "-v", "--visualize"):
@@ -370,7 +370,7 @@ def test_show_is_the_primary_spelling_and_v_visualize_are_aliases():
 def test_the_command_checks_extras_before_computing(
     tmp_path, monkeypatch, capsys, module, options, extra
 ):
-    from dentopo.cli import _compute, main
+    from dentopo.cli import _checks, _compute, main
     from dentopo.samples import sample_paths
 
     monkeypatch.setitem(sys.modules, module, None)  # as if not installed
@@ -379,6 +379,7 @@ def test_the_command_checks_extras_before_computing(
         raise AssertionError("a batch was planned before the missing extra was reported")
 
     monkeypatch.setattr(_compute, "plan_batch", no_batch)
+    monkeypatch.setattr(_checks, "plan_batch", no_batch)  # the outputs of --per-vertex
     monkeypatch.chdir(tmp_path)
     assert main([str(sample_paths()["tooth"]), *options]) == 2
     out, err = capsys.readouterr()

@@ -1,10 +1,12 @@
 """The ``dentopo`` command (also ``python -m dentopo``): a thin shell over the public API.
 
 ``_main`` dispatches to a subcommand or the main command; ``_compute`` is the
-main command (a table with one row per mesh), drawing its progress with
-``_progress`` and its table with ``_table`` (both with rich on a terminal,
-plain text otherwise), and keeping its table file with ``_output`` (checked
-before any work, locked, each finished row journalled as it finishes);
+main command (a table with one row per mesh), with its parser in ``_arguments``,
+its checks before any file is read in ``_checks`` and its pictures in
+``_pictures``, drawing its progress with ``_progress`` and its table with
+``_table`` (both with rich on a terminal, plain text otherwise), and keeping its
+table file with ``_output`` (checked before any work, locked, each finished row
+journalled as it finishes);
 ``_study`` the ``robustness`` and ``sweep`` subcommands; ``_compiling`` prints
 one line while numba compiles kernels (a fresh install's first run).  Only this
 subpackage prints or exits.  A missing extra ends as one line naming it, with
