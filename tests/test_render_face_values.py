@@ -31,13 +31,13 @@ from dentopo.cli import main
 from dentopo.figures import (
     FACE_METRICS,
     NEUTRAL,
-    _topography,
+    _face_drawing,
     color_scale,
     read_provenance,
     render_face_values,
 )
 from dentopo.figures._colors import sequential_rgb
-from dentopo.figures._topography import MISSING_RGB
+from dentopo.figures._face_drawing import MISSING_RGB
 from dentopo.samples import sample_paths, tooth
 from dentopo.topography import angularity, arc, elevation, inclination
 
@@ -121,7 +121,7 @@ def test_face_metrics_name_the_arrays_of_the_results(results):
 @pytest.mark.parametrize("name", FOUR)
 def test_png_layout_mesh_and_colour_bar(monkeypatch, tmp_path, results, name):
     mesh, values = values_of(results, name)
-    layouts = capture_layouts(monkeypatch, _topography)
+    layouts = capture_layouts(monkeypatch, _face_drawing)
     path = tmp_path / f"{name}.png"
     spec = FACE_METRICS[name]
     render_face_values(
@@ -154,7 +154,7 @@ def test_png_layout_mesh_and_colour_bar(monkeypatch, tmp_path, results, name):
 @needs_pyvista
 def test_arc_png_has_a_blue_basin_red_cusps_and_a_neutral_border(monkeypatch, tmp_path, results):
     mesh, values = values_of(results, "arc")
-    layouts = capture_layouts(monkeypatch, _topography)
+    layouts = capture_layouts(monkeypatch, _face_drawing)
     path = tmp_path / "arc.png"
     render_face_values(mesh, values, screenshot=path, **FACE_METRICS["arc"].keywords())
     drawing = view_region(layouts[0], read_png(path))
@@ -178,7 +178,7 @@ def test_arc_png_has_a_blue_basin_red_cusps_and_a_neutral_border(monkeypatch, tm
 @pytest.mark.parametrize(("size", "dpi"), [((500, 380), None), ((2000, 1600), 600)])
 def test_png_layout_holds_at_two_sizes(monkeypatch, tmp_path, results, size, dpi):
     mesh, values = values_of(results, "inclination")
-    layouts = capture_layouts(monkeypatch, _topography)
+    layouts = capture_layouts(monkeypatch, _face_drawing)
     path = tmp_path / "inclination.png"
     keywords = FACE_METRICS["inclination"].keywords()
     render_face_values(mesh, values, screenshot=path, window_size=size, dpi=dpi, **keywords)

@@ -36,7 +36,7 @@ from dentopo._optional import MissingExtraError
 from dentopo.figures import (
     OPC_COLORS,
     DisplayUnavailableError,
-    _topography,
+    _face_drawing,
     render_footprint,
     render_opc,
     render_slope,
@@ -174,7 +174,7 @@ def test_slope_scale_runs_dark_to_light_and_clips_overhangs():
 @needs_pyvista
 def test_opc_png_shows_all_eight_bins_and_the_borders(monkeypatch, tmp_path, inputs):
     mesh, _, face_bin, face_patch, _ = inputs
-    layouts = capture_layouts(monkeypatch, _topography)
+    layouts = capture_layouts(monkeypatch, _face_drawing)
     path = tmp_path / "opc.png"
     render_opc(mesh, face_bin, face_patch, screenshot=path, window_size=(900, 600))
     image = read_png(path)
@@ -200,7 +200,7 @@ def test_opc_png_shows_all_eight_bins_and_the_borders(monkeypatch, tmp_path, inp
 @pytest.mark.parametrize(("size", "dpi"), [((900, 600), None), ((2400, 1700), 600)])
 def test_opc_png_layout_holds_at_two_sizes(monkeypatch, tmp_path, inputs, size, dpi):
     mesh, _, face_bin, face_patch, _ = inputs
-    layouts = capture_layouts(monkeypatch, _topography)
+    layouts = capture_layouts(monkeypatch, _face_drawing)
     path = tmp_path / "opc.png"
     render_opc(mesh, face_bin, face_patch, screenshot=path, window_size=size, dpi=dpi)
     (layout,) = layouts
@@ -211,7 +211,7 @@ def test_opc_png_layout_holds_at_two_sizes(monkeypatch, tmp_path, inputs, size, 
 @needs_pyvista
 def test_opc_png_without_borders_has_no_dark_lines(monkeypatch, tmp_path, inputs):
     mesh, _, face_bin, face_patch, _ = inputs
-    layouts = capture_layouts(monkeypatch, _topography)
+    layouts = capture_layouts(monkeypatch, _face_drawing)
     path = tmp_path / "opc.png"
     render_opc(mesh, face_bin, face_patch, borders=False, screenshot=path, window_size=(900, 600))
     drawing = view_region(layouts[0], read_png(path))
@@ -244,7 +244,7 @@ def test_footprint_png_shows_the_outline_around_the_mesh(
     if upside_down:  # seen from -z, the outline is drawn below the mesh, still in sight
         mesh = trimesh.Trimesh(mesh.vertices * [1, -1, -1], mesh.faces, process=False)
         outline = outline * [1, -1]
-    layouts = capture_layouts(monkeypatch, _topography)
+    layouts = capture_layouts(monkeypatch, _face_drawing)
     path = tmp_path / "footprint.png"
     render_footprint(mesh, outline, screenshot=path, window_size=(600, 600))
     image = view_region(layouts[0], read_png(path))

@@ -6,10 +6,13 @@ and every picture's camera), ``_layout`` (print-ready composition: pyvista 3D
 views with matplotlib texts and legends, sized in points), ``_provenance``
 (the JSON kept in every PNG and HTML page), ``_render`` (windows and pictures,
 pyvista imported only when a picture is drawn), ``_html`` (self-contained WebGL
-pages), ``_topography`` (per-face pictures of slope, OPC, ARC, angularity,
-inclination and elevation, and RFI's footprint outline, drawn from a result's
-arrays), ``_preparation`` (previews of :func:`dentopo.prepare`: the raw scan with its
-found axis and crop plane beside the prepared crown, and a contact sheet of them).
+pages), ``_topography`` (per-face pictures of slope and OPC, and RFI's
+footprint outline, drawn from a result's arrays), ``_face_values`` (the
+per-face pictures of any value: ARC, angularity, inclination, elevation),
+``_face_drawing`` (what those per-face pictures share: checks, the pyvista
+window, the composed picture), ``_preparation`` (previews of
+:func:`dentopo.prepare`: the raw scan with its found axis and crop plane beside
+the prepared crown, and a contact sheet of them).
 
 May import: :mod:`dentopo.mesh`, :mod:`dentopo.sign`, :mod:`dentopo.ariadne`,
 :mod:`dentopo.topography` (to compute a result with default settings when none
@@ -28,6 +31,7 @@ from ._colors import (
     diverging_rgb,
     slope_rgb,
 )
+from ._face_values import FACE_METRICS, FaceMetric, render_face_values
 from ._preparation import preview_sheet, render_preparation
 from ._provenance import read_provenance
 from ._render import (  # pyvista is imported only when a picture is drawn
@@ -38,14 +42,7 @@ from ._render import (  # pyvista is imported only when a picture is drawn
     render_curvature,
     render_panel,
 )
-from ._topography import (
-    FACE_METRICS,
-    FaceMetric,
-    render_face_values,
-    render_footprint,
-    render_opc,
-    render_slope,
-)
+from ._topography import render_footprint, render_opc, render_slope
 from ._views import VIEWS
 
 __all__ = [

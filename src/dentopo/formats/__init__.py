@@ -3,10 +3,11 @@
 ``_atomic`` (write to a temporary file, rename over the target), ``_journal``
 (finished rows appended as they finish, so that a killed run loses none),
 ``_lock`` (one writer per table; a table that cannot be written found before
-any work), ``_tables``
-(the result table's column layouts and file formats, one registry each:
-:data:`LAYOUTS`, :data:`FORMATS`), ``_per_vertex`` (each mesh's cleaned
-vertices with their values, as PLY, VTP, NPZ or CSV, and reading them back),
+any work), ``_layouts`` (the result table's column layouts, in one
+registry: :data:`LAYOUTS`), ``_tables`` (its file formats, in another:
+:data:`FORMATS`, and writing, reading and converting a table),
+``_per_vertex`` (each mesh's cleaned vertices with their values, as PLY, VTP,
+NPZ or CSV, and reading them back),
 ``_per_face`` (the face-wise slope and OPC values, in the same formats),
 ``_prepared`` (a prepared crown's mesh and its ``.prepare.json`` record).
 
@@ -25,6 +26,18 @@ from ._journal import (
     NotAJournalError,
     journal_path,
     read_journal,
+)
+from ._layouts import (
+    COLUMNS,
+    DOOLKIT_NAMES,
+    LAYOUTS,
+    METRIC_KEYS,
+    PROTOCOL_KEY,
+    SETTING_KEYS,
+    Column,
+    Layout,
+    layout,
+    record_keys,
 )
 from ._lock import ForeignLockError, OutputLock, check_writable, lock_path
 from ._per_face import FACES_SUFFIX, per_face_arrays, write_per_face
@@ -55,21 +68,11 @@ from ._prepared import (
     write_prepared,
 )
 from ._tables import (
-    COLUMNS,
-    DOOLKIT_NAMES,
     FORMATS,
-    LAYOUTS,
-    METRIC_KEYS,
-    PROTOCOL_KEY,
-    SETTING_KEYS,
-    Column,
-    Layout,
     TableFormat,
     convert_table,
-    layout,
     output_format,
     read_table,
-    record_keys,
     table_format,
     write_table,
 )

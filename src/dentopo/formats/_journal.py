@@ -35,7 +35,7 @@ import json
 import os
 import stat
 
-from ._tables import DENTOPO
+from ._layouts import DENTOPO
 
 #: Appended to an output table's name to name its journal.
 JOURNAL_SUFFIX = ".partial.jsonl"
