@@ -27,9 +27,11 @@ working directory, so that a block can read what an earlier one wrote
 (``results.csv``, then the report); running one block alone (``-k``) first runs the
 blocks above it.  The directory holds the bundled sample meshes (``tooth.ply``,
 ``sphere.ply``, ``saddle.ply``) and copies of the shared meshes
-(``../shared/data/meshes``) as ``crowns/`` and ``scans/``: a copy, so that an
+(``../shared/data/meshes``) as ``crowns/`` and ``scans/``, and MorphoTester's sample
+crowns (``../shared/data/morphotester``) as ``morphotester/``: copies, so that an
 example writing beside them never touches the shared data.  A block that names
-``crowns`` or ``scans`` is skipped, saying so, where the shared data is absent.
+``crowns``, ``scans`` or ``morphotester/`` is skipped, saying so, where the shared
+data is absent.
 
 Markers, each on its own line directly before a block (several may be stacked):
 
@@ -56,7 +58,9 @@ from pathlib import Path
 
 import pytest
 
-from conftest import MESHES
+from conftest import MESHES, SHARED
+
+MORPHOTESTER = SHARED / "data" / "morphotester"
 
 ROOT = Path(__file__).resolve().parents[1]
 PYTHON = sys.executable
@@ -74,6 +78,8 @@ _SKIP = re.compile(r"skip\s*\((?P<reason>.+)\)")
 _EXIT = re.compile(r"exit\s+(?P<status>\d+)")
 _FILE = re.compile(r"file\s+(?P<name>\S+)")
 _SHARED_NAMES = re.compile(r"(?<![\w./-])(crowns|scans)(?![\w.-])")
+#: MorphoTester's sample crowns (``../shared/data/morphotester``), copied as ``morphotester/``.
+_MORPHOTESTER_FOLDER = re.compile(r"(?<![\w./-])morphotester/")
 _INSTALLS = re.compile(
     r"^\s*(\S*/)?(pip3?|pipx|conda|mamba|apt|apt-get|brew)\s+install\b"
     r"|^\s*(\S*/)?python3?\s+-m\s+(venv|pip)\b"
@@ -219,6 +225,8 @@ def why_not_run(block: Block) -> str | None:
         return "installs"
     if _SHARED_NAMES.search(block.code) and not MESHES.is_dir():
         return f"uses crowns/ or scans/, the shared meshes, not found at {MESHES}"
+    if _MORPHOTESTER_FOLDER.search(block.code) and not MORPHOTESTER.is_dir():
+        return f"uses morphotester/, MorphoTester's sample crowns, not found at {MORPHOTESTER}"
     return None
 
 
@@ -289,6 +297,11 @@ def _prepare(directory: Path) -> None:
     if MESHES.is_dir():
         for name in ("crowns", "scans"):
             shutil.copytree(MESHES, directory / name)
+    if MORPHOTESTER.is_dir():
+        folder = directory / "morphotester"
+        folder.mkdir()
+        for path in MORPHOTESTER.glob("*.ply"):
+            shutil.copy(path, folder)
 
 
 class Page:

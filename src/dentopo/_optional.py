@@ -143,6 +143,10 @@ DASK = Feature("Dask clusters", "distributed", "cluster")
 DATA_FRAMES = Feature("data frames", "pandas", "table")
 #: The robustness study's and the bandwidth sweep's figures.
 STUDY_FIGURES = Feature("study figures", "matplotlib", "study")
+#: MorphoTester's outline area (its RFI), counted in a picture drawn by matplotlib's Agg.
+MORPHOTESTER_OUTLINE = Feature(
+    "MorphoTester's outline area (morphotester_rfi)", "matplotlib", "viz"
+)
 #: ``.xlsx`` tables.
 EXCEL = Feature("Excel tables", "openpyxl", "excel")
 #: The collection report's plots and 3D views (plotly.js, inlined into the page).
@@ -153,7 +157,18 @@ APP = Feature("web pages served by dentopo app", "starlette", "app")
 APP_SERVER = Feature("web pages served by dentopo app", "uvicorn", "app")
 
 #: Every feature above, for checks and tests.
-FEATURES = (PICTURES, FAST_METHOD, DASK, DATA_FRAMES, STUDY_FIGURES, EXCEL, REPORT, APP, APP_SERVER)
+FEATURES = (
+    PICTURES,
+    FAST_METHOD,
+    DASK,
+    DATA_FRAMES,
+    STUDY_FIGURES,
+    MORPHOTESTER_OUTLINE,
+    EXCEL,
+    REPORT,
+    APP,
+    APP_SERVER,
+)
 
 #: ``prepare``'s ``decimate="meshlab"``: MeshLab's quadric edge collapse (pymeshlab, GPL).
 #: Not in FEATURES: the ``meshlab`` extra is in neither ``all`` nor ``test`` (a 100 MB GPL

@@ -21,11 +21,13 @@ import trimesh
 
 from ..ariadne import ariaDNE
 from ..formats import DOOLKIT_NAMES, METRIC_KEYS, SETTING_KEYS
-from ..mesh import clean_listed, load_mesh
+from ..mesh import as_arrays, clean_listed, load_mesh, read_ply
 from ..topography import (
     CLASSIC_KEYS,
     DOOLKIT_BASE_KEYS,
     DOOLKIT_METRICS,
+    MORPHOTESTER_METRICS,
+    MORPHOTESTER_ROTATION_KEYS,
     ORIENTED,
     UNIT_DEPENDENT,
     UnitWarning,
@@ -39,6 +41,7 @@ from ..topography import (
     check_int,
     check_metrics,
     check_min_area,
+    check_morphotester_options,
     check_opcr_options,
     check_orient,
     classic_dne,
@@ -51,6 +54,9 @@ from ..topography import (
     hypsodonty,
     inclination,
     millimetres_per_unit,
+    morphotester_dne,
+    morphotester_opcr,
+    morphotester_rfi,
     opc,
     opcr,
     prepare_surface,
@@ -127,6 +133,11 @@ class TopographyOptions:
     orient: str = "auto"
     duplicates: str = "drop"
     unit: float | None = None
+    mt_condition_check: bool = True
+    mt_outliers: str = "energy"
+    mt_percentile: float = 99.9
+    mt_smooth: bool = False
+    mt_min_patch: int = 5
 
     def __post_init__(self):
         # the metrics' own checks, made once for the whole batch
@@ -149,6 +160,18 @@ class TopographyOptions:
         object.__setattr__(self, "orient", check_orient(self.orient))
         object.__setattr__(self, "duplicates", check_duplicates(self.duplicates))
         object.__setattr__(self, "unit", millimetres_per_unit(self.unit))
+        check, outliers, percentile, smooth, patch = check_morphotester_options(
+            self.mt_condition_check,
+            self.mt_outliers,
+            self.mt_percentile,
+            self.mt_smooth,
+            self.mt_min_patch,
+        )
+        object.__setattr__(self, "mt_condition_check", check)
+        object.__setattr__(self, "mt_outliers", "off" if outliers is None else outliers)
+        object.__setattr__(self, "mt_percentile", percentile)
+        object.__setattr__(self, "mt_smooth", smooth)
+        object.__setattr__(self, "mt_min_patch", patch)
 
     def rotations(self) -> tuple[float, ...]:
         """OPCR's rotations, degrees."""
@@ -170,6 +193,11 @@ class TopographyOptions:
             "arc_range_low": self.arc_range[0],
             "arc_range_high": self.arc_range[1],
             "mm_per_unit": self.unit,
+            "mt_condition_check": self.mt_condition_check,
+            "mt_outliers": self.mt_outliers,
+            "mt_percentile": self.mt_percentile,
+            "mt_smooth": self.mt_smooth,
+            "mt_min_patch": self.mt_min_patch,
         }
         record = {}
         for metric in metrics:
@@ -237,6 +265,19 @@ def _values(metric: str, result) -> dict:
     if metric == "footprint":
         concave, convex = result
         return {"area2d": concave.area, "area2d_convex": convex.area}
+    if metric == "morphotester_dne":
+        return {"mt_dne": result.dne}
+    if metric == "morphotester_rfi":
+        return {
+            "mt_rfi": result.rfi,
+            "mt_surface_area": result.surface_area,
+            "mt_outline_area": result.outline_area,
+        }
+    if metric == "morphotester_opcr":
+        return {
+            "mt_opcr": result.opcr,
+            **dict(zip(MORPHOTESTER_ROTATION_KEYS, result.opc, strict=True)),
+        }
     values = result.to_dict()
     if metric in DOOLKIT_METRICS:
         return {key: values[DOOLKIT_NAMES.get(key, key)] for key in METRIC_KEYS[metric]}
@@ -394,7 +435,44 @@ _TOPOGRAPHY = {
         footprint_area(surface, hull="convex", orient=options.orient),
     ),
     "hypsodonty": lambda surface, options: hypsodonty(surface),
+    # MorphoTester's, on the mesh as MorphoTester reads it (see _as_read)
+    "morphotester_dne": lambda mesh, options: morphotester_dne(
+        mesh,
+        condition_check=options.mt_condition_check,
+        outliers=None if options.mt_outliers == "off" else options.mt_outliers,
+        percentile=options.mt_percentile,
+        smooth=options.mt_smooth,
+    ),
+    "morphotester_rfi": lambda mesh, options: morphotester_rfi(mesh),
+    "morphotester_opcr": lambda mesh, options: morphotester_opcr(
+        mesh, min_patch=options.mt_min_patch
+    ),
 }
+
+
+def _as_read(mesh, raw):
+    """The mesh MorphoTester's metrics measure: as MorphoTester reads it, nothing cleaned.
+
+    `raw` is the file read as MorphoTester reads a PLY (:func:`dentopo.mesh.read_ply`
+    with ``exact_text=True``: ASCII coordinates as float64 from their text, no vertex
+    merged, no face dropped); without it (a mesh given in memory, a prepared mesh, a
+    format MorphoTester does not read) the mesh's own vertices and faces, as given.
+    """
+    if raw is not None:
+        return raw
+    if isinstance(mesh, BaseException):
+        return mesh
+    try:
+        return as_arrays(mesh)
+    except Exception as exc:  # each metric names it
+        return exc
+
+
+def read_as_morphotester(path) -> tuple[np.ndarray, np.ndarray] | None:
+    """A PLY file read as MorphoTester reads it; None for another format."""
+    if os.fspath(path).lower().endswith(".ply"):
+        return read_ply(path, exact_text=True)
+    return None
 
 
 def _doolkit_base(surface) -> dict:
@@ -419,6 +497,7 @@ def measure_mesh(
     options: TopographyOptions | None = None,
     reason: Callable[[BaseException], str] = str,
     progress: Callable[[str], None] | None = None,
+    raw: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Measurement:
     """Compute `metrics` on one mesh; a metric that fails is named, not raised.
 
@@ -438,13 +517,22 @@ def measure_mesh(
     progress : callable, optional
         ariaDNE's phase callback; each other metric's name is reported as it
         starts.
+    raw : (vertices, faces), optional
+        The file as MorphoTester reads it, for MorphoTester's metrics
+        (:func:`read_as_morphotester`); read here when `mesh` is a PLY file's
+        path.  Without it they measure `mesh` as given, nothing cleaned.
     """
     metrics = check_metrics(metrics)
     options = TopographyOptions() if options is None else options
     ariadne_options = {} if ariadne_options is None else ariadne_options
+    morphotester = [metric for metric in metrics if metric in MORPHOTESTER_METRICS]
+    if morphotester and raw is None and isinstance(mesh, (str, os.PathLike)):
+        raw = read_as_morphotester(mesh)
     if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
         mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
-    surface = _prepared(mesh, options) if metrics != ("ariadne",) else None
+    others = [metric for metric in metrics if metric not in MORPHOTESTER_METRICS]
+    surface = _prepared(mesh, options) if others and others != ["ariadne"] else None
+    as_read = _as_read(mesh, raw) if morphotester else None
     millimetres = surface
     if set(UNIT_DEPENDENT).intersection(metrics):
         millimetres = _in_millimetres(surface, options)
@@ -454,12 +542,16 @@ def measure_mesh(
     for metric in metrics:
         if metric in DOOLKIT_METRICS and "n_vertices" not in record:
             record.update(_doolkit_base(surface))
+        if metric in MORPHOTESTER_METRICS and "mt_n_faces" not in record:
+            record["mt_n_faces"] = None if isinstance(as_read, BaseException) else len(as_read[1])
         keys = METRIC_KEYS[metric]
         if metric != "ariadne" and progress is not None:
             progress(metric)
         given = mesh if metric == "ariadne" else surface
         if metric in UNIT_DEPENDENT:
             given = millimetres
+        elif metric in MORPHOTESTER_METRICS:
+            given = as_read
         try:
             result = _compute(metric, given, ariadne_options, options, progress)
         except OSError:
@@ -469,6 +561,8 @@ def measure_mesh(
             record.update(dict.fromkeys(keys))
             if metric == "opcr":
                 record.update(dict.fromkeys(rotation_key(d) for d in options.rotations()))
+            if metric == "morphotester_opcr":
+                record.update(dict.fromkeys(MORPHOTESTER_ROTATION_KEYS))
             if metric == "ariadne":  # its settings columns are still the settings
                 record.update(ariadne_options)
             continue

@@ -254,6 +254,11 @@ def compute_batch(
     duplicates: str = "drop",
     prepare=None,
     unit=None,
+    mt_condition_check: bool = True,
+    mt_outliers: str = "energy",
+    mt_percentile: float = 99.9,
+    mt_smooth: bool = False,
+    mt_min_patch: int = 5,
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -322,6 +327,13 @@ def compute_batch(
         lengths and areas given back in the mesh's unit.  None: taken as
         millimetres, and the rows warn where that matters (see
         :class:`dentopo.batch.TopographyOptions`).
+    mt_condition_check, mt_outliers, mt_percentile, mt_smooth, mt_min_patch
+        MorphoTester's options (:class:`dentopo.batch.TopographyOptions`): its
+        DNE's condition-number check, outlier type (``"energy"``,
+        ``"energy_area"`` or ``"off"``), percentile and implicit fairing, and its
+        OPCR's smallest patch.  Defaults: its published results' settings.
+        MorphoTester's metrics measure each PLY file as MorphoTester reads it
+        (nothing cleaned, ASCII coordinates as float64 from their text).
     prepare : Protocol, str or path-like, optional
         A preparation protocol (a :class:`dentopo.Protocol`, the name of a
         shipped one, see :func:`dentopo.prepare.named_protocols`, or a TOML
@@ -428,6 +440,11 @@ def compute_batch(
         duplicates=duplicates,
         prepare=prepare,
         unit=unit,
+        mt_condition_check=mt_condition_check,
+        mt_outliers=mt_outliers,
+        mt_percentile=mt_percentile,
+        mt_smooth=mt_smooth,
+        mt_min_patch=mt_min_patch,
     )
     check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):

@@ -13,7 +13,7 @@ import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from .._optional import DASK, FAST_METHOD
+from .._optional import DASK, FAST_METHOD, MORPHOTESTER_OUTLINE
 from ..ariadne import check_bandwidth, check_cutoff, check_distance_type, check_method
 from ..formats import record_keys
 from ..mesh import check_geometry
@@ -77,7 +77,8 @@ def check_extras(settings: Settings, *, scheduler=None) -> None:
 
     A `scheduler` needs dask.distributed in this process; ``method="fast"``
     needs finufft where the meshes are computed, i.e. here unless they run on
-    a scheduler (whose workers report a missing finufft per file).  Cheap:
+    a scheduler (whose workers report a missing finufft per file); MorphoTester's
+    RFI needs matplotlib (its outline is counted in a picture) likewise.  Cheap:
     nothing is imported.
 
     Raises
@@ -90,6 +91,8 @@ def check_extras(settings: Settings, *, scheduler=None) -> None:
             DASK.check()
     elif settings.method == "fast":
         FAST_METHOD.check()
+    if scheduler is None and "morphotester_rfi" in settings.metrics:
+        MORPHOTESTER_OUTLINE.check()  # matplotlib draws MorphoTester's outline
 
 
 def make_settings(
@@ -117,6 +120,11 @@ def make_settings(
     duplicates: str = "drop",
     prepare=None,
     unit=None,
+    mt_condition_check: bool = True,
+    mt_outliers: str = "energy",
+    mt_percentile: float = 99.9,
+    mt_smooth: bool = False,
+    mt_min_patch: int = 5,
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
 
@@ -160,6 +168,11 @@ def make_settings(
             orient=check_orient(orient),
             duplicates=duplicates,
             unit=unit,
+            mt_condition_check=mt_condition_check,
+            mt_outliers=mt_outliers,
+            mt_percentile=mt_percentile,
+            mt_smooth=mt_smooth,
+            mt_min_patch=mt_min_patch,
         ),
         prepare=None if prepare is None else _check_protocol(prepare),
     )

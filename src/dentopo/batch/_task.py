@@ -30,8 +30,9 @@ from ..formats import (
 )
 from ..mesh import load_mesh
 from ..prepare import Protocol
+from ..topography import MORPHOTESTER_METRICS
 from ._errors import failure_reason
-from ._measure import Measurement, measure_mesh
+from ._measure import Measurement, measure_mesh, read_as_morphotester
 from ._settings import Settings
 
 _MAX_REASON = 500
@@ -121,6 +122,13 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
             try:
                 phases = None if on_phase is None else partial(on_phase, task.file)
                 mesh = task.path  # ariaDNE alone reads the file itself
+                raw = None  # the file as MorphoTester reads it, for its metrics
+                if (
+                    set(MORPHOTESTER_METRICS).intersection(settings.metrics)
+                    and settings.geometry is None
+                    and settings.prepare is None
+                ):
+                    raw = read_as_morphotester(task.path)
                 if (
                     settings.geometry is not None
                     or settings.metrics != ("ariadne",)
@@ -140,6 +148,7 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                     options=settings.topography,
                     reason=error_reason,
                     progress=phases,
+                    raw=raw,
                 )
                 step = "writing the per-vertex files"
                 if task.per_vertex_dir is not None and measured.status != "error":

@@ -265,6 +265,47 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         "areas given back in the mesh's unit). Default: coordinates taken as millimetres, "
         "and the rows warn where that matters",
     )
+    mt = parser.add_argument_group(
+        "MorphoTester 1.1.1 (--metrics morphotester; defaults: its published results' settings)"
+    )
+    mt.add_argument(
+        "--mt-outliers",
+        type=str.lower,
+        choices=("energy", "energy-area", "off"),
+        default="energy",
+        help="MorphoTester's DNE: faces above the percentile of their energy density (energy, "
+        "as its published results), of energy x area (energy-area, its window's default), "
+        "or none removed (off)",
+    )
+    mt.add_argument(
+        "--mt-percentile",
+        type=float,
+        default=99.9,
+        metavar="P",
+        help="MorphoTester's DNE: the outlier percentile, in (0, 100] (default 99.9)",
+    )
+    mt.add_argument(
+        "--mt-condition",
+        type=str.lower,
+        choices=("on", "off"),
+        default="on",
+        help="MorphoTester's DNE: faces whose first fundamental form has a condition number "
+        "above 1e5 get no energy (default on, as MorphoTester)",
+    )
+    mt.add_argument(
+        "--mt-smooth",
+        action="store_true",
+        help="MorphoTester's DNE on the crown after its implicit fairing (3 iterations, step "
+        "0.1; DNE only, as MorphoTester); a crown it cannot fair is that metric's error",
+    )
+    mt.add_argument(
+        "--mt-min-patch",
+        type=int,
+        default=5,
+        metavar="N",
+        help="MorphoTester's OPCR: patches of fewer faces are not counted (default 5, as its "
+        "published results; its window's default is 3)",
+    )
     compute.add_argument(
         "--geometry",
         metavar="NAME",

@@ -105,6 +105,11 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             duplicates=args.duplicates,
             prepare=args.prepare,
             unit=args.unit,
+            mt_condition_check=args.mt_condition == "on",
+            mt_outliers=args.mt_outliers,
+            mt_percentile=args.mt_percentile,
+            mt_smooth=args.mt_smooth,
+            mt_min_patch=args.mt_min_patch,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))

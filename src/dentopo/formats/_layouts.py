@@ -5,7 +5,8 @@ the :class:`Column` and :class:`Layout` that say how a table names and orders
 them and how a cell reads back with its type, and the four layouts found by
 name in one registry, :data:`LAYOUTS`: ``dentopo`` (every column, the
 library's names), ``signdne`` (the published signDNE 0.1.4 CLI's), ``molar``
-(molaR_Batch's) and ``doolkit`` (doolkit 1.42's).  Adding a layout is one
+(molaR_Batch's), ``doolkit`` (doolkit 1.42's) and ``morphotester`` (MorphoTester
+1.1.1's results file, its numbers printed as it prints them).  Adding a layout is one
 entry in the registry; :func:`layout` finds it.  How the cells are stored in a
 file (CSV, TSV, JSON, Excel) and the writing and reading of a table are in
 ``_tables``.
@@ -27,6 +28,9 @@ from ..topography import (
     DOOLKIT_METRICS,
     DOOLKIT_ROTATION_KEYS,
     METRICS,
+    MORPHOTESTER_BASE_KEYS,
+    MORPHOTESTER_METRICS,
+    MORPHOTESTER_ROTATION_KEYS,
     ORIENTED,
     UNIT_DEPENDENT,
     check_metrics,
@@ -62,6 +66,9 @@ METRIC_KEYS = {
     "shape_index": ("shape_formfactor", "shape_elongation", "shape_k"),
     "footprint": ("area2d", "area2d_convex"),
     "hypsodonty": ("hypso_hypsodonty", "hypso_height", "hypso_length", "hypso_width"),
+    "morphotester_dne": ("mt_dne",),
+    "morphotester_rfi": ("mt_rfi", "mt_surface_area", "mt_outline_area"),
+    "morphotester_opcr": ("mt_opcr", *MORPHOTESTER_ROTATION_KEYS),
 }
 #: Settings columns of the topography metrics (ariaDNE's are among its own keys).
 SETTING_KEYS = {
@@ -73,6 +80,8 @@ SETTING_KEYS = {
     # doolkit's metrics whose definitions assume millimetres: the meshes' unit, if given
     # (millimetres per unit; empty: taken as millimetres)
     **dict.fromkeys(UNIT_DEPENDENT, ("mm_per_unit",)),
+    "morphotester_dne": ("mt_condition_check", "mt_outliers", "mt_percentile", "mt_smooth"),
+    "morphotester_opcr": ("mt_min_patch",),
 }
 #: Columns of the metrics that assume the crown points to +z: what was found and done, and
 #: the ``orient`` setting.
@@ -93,6 +102,9 @@ _INTEGER_COLUMNS = frozenset(
         "dk_opc",
         *DOOLKIT_BIN_KEYS,
         *DOOLKIT_ROTATION_KEYS,
+        *MORPHOTESTER_BASE_KEYS,
+        *MORPHOTESTER_ROTATION_KEYS,
+        "mt_min_patch",
     }
 )
 _TEXT_COLUMNS = frozenset(
@@ -108,10 +120,11 @@ _TEXT_COLUMNS = frozenset(
         "orient",
         "dne_boundary",
         "arc_boundary",
+        "mt_outliers",
         PROTOCOL_KEY,
     }
 )
-_BOOL_COLUMNS = frozenset({"find_alpha"})
+_BOOL_COLUMNS = frozenset({"find_alpha", "mt_condition_check", "mt_smooth"})
 _ROTATION = re.compile(r"opc_(-?[0-9.]+(?:e[-+]?[0-9]+)?)$")
 
 
@@ -128,6 +141,8 @@ def record_keys(metrics=("ariadne",), rotations: Sequence[float] = ()) -> tuple[
     for metric in metrics:
         if metric in DOOLKIT_METRICS:
             keys += DOOLKIT_BASE_KEYS  # once, before the first of doolkit's metrics
+        if metric in MORPHOTESTER_METRICS:
+            keys += MORPHOTESTER_BASE_KEYS  # once, before the first of MorphoTester's
         keys += METRIC_KEYS[metric]
         if metric == "opcr":
             keys += [rotation_key(degrees) for degrees in rotations]
@@ -218,6 +233,9 @@ class Layout:
     excluded : tuple of str
         Headers a file of this layout never has (to tell it from another
         layout whose required columns it shares).
+    number : callable, optional
+        How this layout writes a float as text in CSV and TSV (its tool's own
+        printing), in place of :attr:`decimals`.
     """
 
     name: str
@@ -231,6 +249,7 @@ class Layout:
     parse: Parser | None = field(default=None, repr=False, compare=False)
     metrics: tuple[str, ...] = ("ariadne",)
     excluded: tuple[str, ...] = ()
+    number: Callable[[float], str] | None = field(default=None, repr=False, compare=False)
 
     @property
     def header(self) -> tuple[str, ...]:
@@ -258,6 +277,8 @@ class Layout:
         if value is None:
             return ""
         if isinstance(value, float):
+            if self.number is not None:
+                return self.number(value)
             return repr(value) if self.decimals is None else f"{value:.{self.decimals}f}"
         return str(value)
 
@@ -452,8 +473,69 @@ DOOLKIT = Layout(
     excluded=("seconds",),  # a dentopo table of doolkit's metrics has n_vertices too
 )
 
+#: MorphoTester's table's names for our record keys (its results file, ``morphoresults.txt``).
+MORPHOTESTER_NAMES = {
+    "mt_n_faces": "Mesh Face Number",
+    "mt_dne": "DNE",
+    "mt_rfi": "RFI",
+    "mt_surface_area": "Surface Area",
+    "mt_outline_area": "Outline Area",
+    "mt_opcr": "OPCR",
+}
+MORPHOTESTER_END = {"status": "status", "error": "error", "warnings": "warnings"}
+
+
+def python2_str(value: float) -> str:
+    """A float as Python 2's ``str`` prints it, as MorphoTester writes its results.
+
+    Twelve significant digits, and a whole number keeps a trailing ``.0``
+    (``68.0``, ``209.485``, ``67.125``); infinities and NaN as Python 2 names them.
+    """
+    if value != value:
+        return "nan"
+    if value in (float("inf"), float("-inf")):
+        return "inf" if value > 0 else "-inf"
+    text = f"{value:.12g}"
+    return text if any(c in text for c in ".e") else text + ".0"
+
+
+def _morphotester_columns(metrics, rotations) -> tuple[Column, ...]:
+    columns = [Column("Filename", "file", "text", basename=True)]
+    chosen = [metric for metric in MORPHOTESTER_METRICS if metric in metrics]
+    if chosen:
+        columns += [Column(MORPHOTESTER_NAMES[k], k, _kind(k)) for k in MORPHOTESTER_BASE_KEYS]
+    for metric in chosen:
+        for key in METRIC_KEYS[metric]:
+            if key in MORPHOTESTER_NAMES:
+                columns.append(Column(MORPHOTESTER_NAMES[key], key, _kind(key)))
+    columns += [Column(header, key, "text") for key, header in MORPHOTESTER_END.items()]
+    return tuple(columns)
+
+
+def _morphotester_parse(header: Sequence[str]) -> tuple[Column, ...]:
+    names = {"Filename": "file", **{h: k for k, h in MORPHOTESTER_NAMES.items()}}
+    names.update(MORPHOTESTER_END)
+    return tuple(Column(name, names[name], _kind(names[name])) for name in header if name in names)
+
+
+MORPHOTESTER = Layout(
+    name="morphotester",
+    columns=_morphotester_columns(MORPHOTESTER_METRICS, ()),
+    required=("Filename", "Mesh Face Number", "status"),
+    resumable=False,
+    description="MorphoTester 1.1.1's results columns (Filename, Mesh Face Number, DNE, RFI, "
+    "Surface Area, Outline Area, OPCR; its metrics only, numbers printed as it prints them), "
+    "then status, error and warnings",
+    build=_morphotester_columns,
+    parse=_morphotester_parse,
+    metrics=MORPHOTESTER_METRICS,
+    number=python2_str,
+)
+
 #: Column layouts by name; :func:`read_table` recognises a file's layout by its header.
-LAYOUTS: dict[str, Layout] = {layout.name: layout for layout in (DENTOPO, SIGNDNE, MOLAR, DOOLKIT)}
+LAYOUTS: dict[str, Layout] = {
+    layout.name: layout for layout in (DENTOPO, SIGNDNE, MOLAR, DOOLKIT, MORPHOTESTER)
+}
 
 
 def layout(columns: str | Layout, metrics=None, rotations: Sequence[float] = ()) -> Layout:

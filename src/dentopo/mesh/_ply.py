@@ -334,7 +334,12 @@ def _raise_if_counts_differ(elements, lines: _Lines, where: str, declared: str) 
         )
 
 
-def _read_ascii(body: bytes, elements, first_line: int, wanted: dict, where: str) -> dict:
+def _read_ascii(
+    body: bytes, elements, first_line: int, wanted: dict, where: str, exact: tuple = ()
+) -> dict:
+    """The wanted properties of every element; floating properties named ``(element, name)``
+    in `exact` are kept as parsed from the text (float64), not rounded to their declared type.
+    """
     lines = _lines(body, first_line, where)
     n_lines = len(lines.tokens)
     declared = _describe(elements)
@@ -377,7 +382,11 @@ def _read_ascii(body: bytes, elements, first_line: int, wanted: dict, where: str
                 return f"line {lines.number[row + i]} ({element.name} {i}, counting from 0)"
 
             if not prop.is_list:
-                out[element.name][name] = _typed(lines.values[offset], prop, what, where)
+                values = lines.values[offset]
+                if (element.name, name) in exact and prop.type.kind == "f":
+                    out[element.name][name] = values  # float64 from the decimal text
+                else:
+                    out[element.name][name] = _typed(values, prop, what, where)
                 continue
             count = counts[name]
             flat_start = np.cumsum(count) - count
@@ -616,12 +625,18 @@ def open_regular(path: str):
         raise
 
 
-def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
+def read_ply(path: str | os.PathLike, *, exact_text: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Read the vertices and triangles of a PLY file, strictly (see the module's notes).
 
     Parameters
     ----------
     path : str or path-like
+    exact_text : bool, default False
+        In an ASCII file, keep the vertex coordinates x, y, z as float64 parsed from their
+        decimal text, as MorphoTester reads them, instead of rounding them to their declared
+        type (``float`` is float32: ``40.711`` is read as ``40.71099853515625``).  Binary
+        files are unaffected (their float32 values are widened exactly).  MorphoTester's
+        DNE, RFI and outline area match its printed digits only when read this way.
 
     Returns
     -------
@@ -665,7 +680,8 @@ def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
         wanted["face"] = (chosen.name,)
     body = memoryview(data)[offset:]
     if fmt == "ascii":
-        read = _read_ascii(bytes(body), elements, first_line, wanted, where)
+        exact = tuple(("vertex", axis) for axis in "xyz") if exact_text else ()
+        read = _read_ascii(bytes(body), elements, first_line, wanted, where, exact)
     else:
         read = _read_binary(body, elements, fmt == "binary_big_endian", wanted, where)
     columns = read["vertex"]

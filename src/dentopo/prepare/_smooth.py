@@ -22,11 +22,20 @@ counts 0), and diagonal ``L[i, i] = -sum_j L[i, j]``; it is neither divided by
 vertex areas nor normalised by its row sums, is built once from the input
 mesh, and the same factorisation serves every iteration; no volume is
 restored.  MorphoTester's defaults are 3 iterations of step 0.1 (our
-``SMOOTHERS``).  Cotangents have no unit, so ``step`` means the same at any
-mesh unit: smoothing a mesh scaled by 1000 gives the smoothed mesh scaled by
-1000 (tested); being unnormalised, the operator's strength follows the mesh's
-resolution (as MorphoTester's does), which is why it is applied after
-decimation.
+``SMOOTHERS``).  The operator and the solve live in
+:mod:`dentopo.topography.surface._morphotester`, beside MorphoTester's DNE that smooths
+with them.  MorphoTester factorises ``I - step * L`` by Cholesky and stops with an
+error when it is not positive definite; so does this (a ``ValueError`` naming the
+cause), never a silent fallback.  With the cotangents computed stably, as here
+(``dot / |cross|``), ``-L`` is a sum of one positive semi-definite matrix per face
+(obtuse ones too: it is twice the P1 finite-element stiffness matrix), so the system is
+positive definite up to rounding and the error needs nearly degenerate faces;
+MorphoTester's own cotangents (from the arccos of each angle) lose that on nearly
+degenerate faces, which is why it fails on meshes this smooths.  Cotangents have no
+unit, so ``step`` means the same at any mesh unit: smoothing a mesh scaled by 1000
+gives the smoothed mesh scaled by 1000 (tested); being unnormalised, the operator's
+strength follows the mesh's resolution (as MorphoTester's does), which is why it is
+applied after decimation.
 
 The open boundary (a crown's cervical base) is pinned by default
 (``pin_boundary=True``): its vertices do not move, so the base outline that
@@ -62,10 +71,12 @@ import math
 
 import numpy as np
 import trimesh
-from scipy import sparse
-from scipy.sparse.linalg import splu
 
 from ..mesh import boundary_edges
+from ..topography.surface._morphotester import (  # noqa: F401 (cotangent_operator: re-exported)
+    cotangent_operator,
+    implicit_fairing,
+)
 from ._protocol import SMOOTHERS
 from ._result import Outcome
 
@@ -113,70 +124,6 @@ _REMEDY = {
 def boundary_vertices(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     """The vertices on an open boundary (sorted, unique; empty for a closed mesh)."""
     return np.unique(boundary_edges(faces, n_vertices)).astype(np.int64)
-
-
-def cotangent_operator(vertices: np.ndarray, faces: np.ndarray) -> sparse.csr_matrix:
-    """MorphoTester's curvature-flow operator L: cotangent weights, diagonal minus their sum.
-
-    ``L[i, j]`` (i != j) is the sum of the cotangents of the angles facing edge
-    ``ij`` (0 for a degenerate angle), ``L[i, i] = -sum_j L[i, j]``; not
-    divided by areas.  Symmetric, shape (n, n).
-    """
-    n = len(vertices)
-    rows, cols, weights = [], [], []
-    for corner in range(3):
-        i = faces[:, (corner + 1) % 3]
-        j = faces[:, (corner + 2) % 3]
-        k = faces[:, corner]  # the angle at k faces edge ij
-        u = vertices[i] - vertices[k]
-        v = vertices[j] - vertices[k]
-        cross = np.linalg.norm(np.cross(u, v), axis=1)
-        dot = np.einsum("ij,ij->i", u, v)
-        cot = np.divide(dot, cross, out=np.zeros_like(dot), where=cross > 0)
-        rows += [i, j]
-        cols += [j, i]
-        weights += [cot, cot]
-    w = sparse.coo_matrix(
-        (np.concatenate(weights), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
-    ).tocsr()
-    w.sum_duplicates()
-    return (w - sparse.diags(np.asarray(w.sum(axis=1)).ravel())).tocsr()
-
-
-def implicit_fairing(
-    vertices: np.ndarray,
-    faces: np.ndarray,
-    *,
-    iterations: int,
-    step: float,
-    pinned: np.ndarray | None = None,
-) -> np.ndarray:
-    """`iterations` solves of ``(I - step * L) X_new = X`` (L: :func:`cotangent_operator`).
-
-    `pinned` vertices keep their place (their rows are identity rows).  A new array.
-    """
-    x = np.array(vertices, dtype=np.float64, copy=True)
-    if iterations == 0 or len(x) == 0:
-        return x
-    operator = cotangent_operator(x, faces)
-    if pinned is not None and len(pinned):
-        free = np.ones(len(x))
-        free[pinned] = 0.0
-        operator = (sparse.diags(free) @ operator).tocsr()
-    system = (sparse.identity(len(x), format="csc") - step * operator).tocsc()
-    try:
-        solve = splu(system).solve
-    except RuntimeError as exc:  # an exactly singular system (a degenerate mesh)
-        raise ValueError(f"implicit fairing: the system cannot be solved ({exc})") from None
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        for _ in range(iterations):
-            x = solve(x)
-    if not np.isfinite(x).all():
-        raise ValueError(
-            f"implicit fairing gave non-finite coordinates with step {step:g} over "
-            f"{iterations} iterations (a degenerate mesh, or too large a step?)"
-        )
-    return x
 
 
 def run(

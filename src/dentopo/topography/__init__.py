@@ -1,17 +1,19 @@
 """Dental topography metrics, laid out by family, each peer's variant a module of its own.
 
 One subpackage per family of metrics; in each, one module per peer tool whose numbers it
-reproduces (``_molar``: molaR 6.0; ``_doolkit``: doolkit 1.42.2):
+reproduces (``_molar``: molaR 6.0; ``_doolkit``: doolkit 1.42.2; ``_morphotester``:
+MorphoTester 1.1.1):
 
 - ``dne``: Dirichlet normal energy (molaR's classic DNE with its convex/concave split,
-  doolkit's DNE; ariaDNE is :mod:`dentopo.ariadne`);
+  doolkit's DNE, MorphoTester's; ariaDNE is :mod:`dentopo.ariadne`);
 - ``slope``: face slope, inclination and bearing;
 - ``curvature``: ARC (molaR's and doolkit's) and doolkit's angularity;
-- ``opc``: orientation patch count and its rotated mean;
+- ``opc``: orientation patch count and its rotated mean (molaR's, doolkit's, MorphoTester's);
 - ``relief``: relief index and the other height measures (molaR's RFI with its alpha search,
-  doolkit's relief indices, relief rate, shape index, hypsodonty);
+  doolkit's relief indices, relief rate, shape index, hypsodonty, MorphoTester's RFI);
 - ``footprint``: the outline projected on the occlusal plane (molaR's alpha shape on a
-  certified Delaunay triangulation; doolkit's convex or concave hull, a port of concaveman);
+  certified Delaunay triangulation; doolkit's convex or concave hull, a port of concaveman;
+  MorphoTester's outline counted in pixels);
 - ``surface``: how each tool reads the crown (molaR's surface preparation, the float32 VCG
   emulation), which way it points, and the compiled passes the families share.
 
@@ -36,6 +38,9 @@ from ._metrics import (
     GROUPS,
     METRICS,
     MOLAR_METRICS,
+    MORPHOTESTER_BASE_KEYS,
+    MORPHOTESTER_METRICS,
+    MORPHOTESTER_ROTATION_KEYS,
     ORIENTED,
     check_metrics,
     metric_names,
@@ -52,6 +57,7 @@ from ._parameters import (
     check_finite,
     check_int,
     check_min_area,
+    check_morphotester_options,
     check_opcr_options,
 )
 from ._units import UNIT_DEPENDENT, UNITS, UnitWarning, millimetres_per_unit
@@ -66,6 +72,11 @@ from .curvature._arc import (
 )
 from .dne._doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
 from .dne._molar import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
+from .dne._morphotester import (
+    MORPHOTESTER_DNE_FIELDS,
+    MorphoTesterDNEResult,
+    morphotester_dne,
+)
 from .footprint._doolkit import (
     FOOTPRINT_FIELDS,
     HULLS,
@@ -76,6 +87,11 @@ from .footprint._doolkit import (
 )
 from .opc._doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
 from .opc._molar import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
+from .opc._morphotester import (
+    MORPHOTESTER_OPCR_FIELDS,
+    MorphoTesterOPCRResult,
+    morphotester_opcr,
+)
 from .relief._doolkit import (
     HYPSODONTY_FIELDS,
     RELIEF_INDEX_FIELDS,
@@ -100,6 +116,11 @@ from .relief._molar import (
     FootprintWarning,
     RFIResult,
     rfi,
+)
+from .relief._morphotester import (
+    MORPHOTESTER_RFI_FIELDS,
+    MorphoTesterRFIResult,
+    morphotester_rfi,
 )
 from .slope._doolkit import (
     DOOLKIT_SLOPE_FIELDS,
@@ -151,6 +172,12 @@ __all__ = [
     "INCLINATION_FIELDS",
     "METRICS",
     "MOLAR_METRICS",
+    "MORPHOTESTER_BASE_KEYS",
+    "MORPHOTESTER_DNE_FIELDS",
+    "MORPHOTESTER_METRICS",
+    "MORPHOTESTER_OPCR_FIELDS",
+    "MORPHOTESTER_RFI_FIELDS",
+    "MORPHOTESTER_ROTATION_KEYS",
     "OPC_FIELDS",
     "ORIENTED",
     "ORIENT_MODES",
@@ -175,6 +202,9 @@ __all__ = [
     "FootprintWarning",
     "HypsodontyResult",
     "InclinationResult",
+    "MorphoTesterDNEResult",
+    "MorphoTesterOPCRResult",
+    "MorphoTesterRFIResult",
     "OPCRResult",
     "OPCResult",
     "Orientation",
@@ -197,6 +227,7 @@ __all__ = [
     "check_int",
     "check_metrics",
     "check_min_area",
+    "check_morphotester_options",
     "check_opcr_options",
     "check_orient",
     "classic_dne",
@@ -217,6 +248,9 @@ __all__ = [
     "millimetres_per_unit",
     "molar_face_areas",
     "molar_scale",
+    "morphotester_dne",
+    "morphotester_opcr",
+    "morphotester_rfi",
     "opc",
     "opcr",
     "orient_vertices",

@@ -1,19 +1,22 @@
 """The metrics a run can compute, by name, and the record keys each of them fills.
 
 ``ariadne`` is ariaDNE with its sign-oriented split (:mod:`dentopo.ariadne`);
-the others are molaR 6.0's and doolkit 1.42's dental-topography metrics in
-this subpackage.  The names are what ``--metrics`` accepts and what a table's
-columns are grouped by; their order is the order of the columns (ariaDNE
-first, then molaR's batch order: classic DNE, RFI, OPCR, OPC, slope, then ARC,
-then doolkit's metrics in the order of doolkit's own table).
+the others are molaR 6.0's, doolkit 1.42's and MorphoTester 1.1.1's
+dental-topography metrics in this subpackage.  The names are what
+``--metrics`` accepts and what a table's columns are grouped by; their order
+is the order of the columns (ariaDNE first, then molaR's batch order: classic
+DNE, RFI, OPCR, OPC, slope, then ARC, then doolkit's metrics in the order of
+doolkit's own table, then MorphoTester's in the order of its own).
 
 molaR's and doolkit's own function names are accepted as aliases, in any
 case (``DNE``, ``RFI``, ``OPCr``, ``Slope``, ``ARC``; ``inclin``, ``rrate``,
 ``shape.index``, ``hypso``, ``area2d``).  Where molaR and doolkit use one
 name for two different computations (``slope``, ``opc``, ``opcr``, ``arc``,
 ``dne``, ``rfi``), the name is molaR's and doolkit's is ``doolkit_slope``,
-``doolkit_opc`` ... (doolkit's ``rfi`` is ``relief_index``).  ``molar`` and
-``doolkit`` name each tool's whole set, ``all`` every metric.
+``doolkit_opc`` ... (doolkit's ``rfi`` is ``relief_index``); MorphoTester's
+DNE, RFI and OPCR are ``morphotester_dne``, ``morphotester_rfi`` and
+``morphotester_opcr``.  ``molar``, ``doolkit`` and ``morphotester`` name each
+tool's whole set, ``all`` every metric.
 """
 
 from __future__ import annotations
@@ -39,14 +42,22 @@ DOOLKIT_METRICS = (
     "hypsodonty",
 )
 
+#: MorphoTester 1.1.1's metrics, in the order of its table's columns (DNE, RFI, OPCR).
+MORPHOTESTER_METRICS = ("morphotester_dne", "morphotester_rfi", "morphotester_opcr")
+
 #: Every metric, in the order of a table's columns.
-METRICS = ("ariadne", *MOLAR_METRICS, *DOOLKIT_METRICS)
+METRICS = ("ariadne", *MOLAR_METRICS, *DOOLKIT_METRICS, *MORPHOTESTER_METRICS)
 
 #: What ``metrics="all"`` computes.
 ALL = "all"
 
 #: Names of sets of metrics: each tool's whole set, and everything.
-GROUPS = {ALL: METRICS, "molar": MOLAR_METRICS, "doolkit": DOOLKIT_METRICS}
+GROUPS = {
+    ALL: METRICS,
+    "molar": MOLAR_METRICS,
+    "doolkit": DOOLKIT_METRICS,
+    "morphotester": MORPHOTESTER_METRICS,
+}
 
 #: molaR's and doolkit's function names (lower case) for ours.
 ALIASES = {
@@ -94,6 +105,13 @@ DOOLKIT_ROTATION_KEYS = tuple(f"dk_opcr_rot{k}" for k in range(8))
 
 #: Keys every row with a doolkit metric holds first (doolkit's table starts with them).
 DOOLKIT_BASE_KEYS = ("n_vertices", "n_faces", "area3d")
+
+#: The key every row with a MorphoTester metric holds first: the faces of the mesh as
+#: MorphoTester reads it (its "Mesh Face Number"; nothing cleaned).
+MORPHOTESTER_BASE_KEYS = ("mt_n_faces",)
+
+#: MorphoTester's OPC at each of its eight rotations (0, 5.625, ..., 39.375 degrees).
+MORPHOTESTER_ROTATION_KEYS = tuple(f"mt_opc_rot{k}" for k in range(8))
 
 
 def rotation_key(degrees: float) -> str:

@@ -138,3 +138,48 @@ def check_arc_options(boundary, quantiles) -> tuple[str, tuple[float, float]]:
             f"arc_range must be two quantiles with 0 <= low < high <= 1; got ({low!r}, {high!r})"
         )
     return boundary, (low, high)
+
+
+#: MorphoTester's outlier types: by energy density (its published results) or energy x area
+#: (its GUI's default); None: no outlier removal.
+MORPHOTESTER_OUTLIERS = ("energy", "energy_area")
+
+
+def check_morphotester_dne_options(
+    condition_check, outliers, percentile, smooth
+) -> tuple[bool, str | None, float, bool]:
+    """MorphoTester's DNE options as it uses them, or a ValueError naming the first wrong one.
+
+    `condition_check`, `smooth`: True or False; `outliers`: ``"energy"``,
+    ``"energy_area"`` or None (``"off"`` and ``"energy-area"`` are read too, as the
+    command line writes them); `percentile`: in (0, 100].
+    """
+    for name, flag in (("condition_check", condition_check), ("smooth", smooth)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ValueError(f"{name} must be True or False; got {flag!r}")
+    if isinstance(outliers, str):
+        outliers = {"off": None, "energy-area": "energy_area"}.get(outliers, outliers)
+    if outliers is not None and outliers not in MORPHOTESTER_OUTLIERS:
+        raise ValueError(
+            f"outliers must be one of {', '.join(MORPHOTESTER_OUTLIERS)} or off; got {outliers!r}"
+        )
+    if isinstance(percentile, (bool, np.bool_)) or not isinstance(percentile, Real):
+        raise ValueError(f"percentile must be a number in (0, 100]; got {percentile!r}")
+    if not (np.isfinite(float(percentile)) and 0.0 < float(percentile) <= 100.0):
+        raise ValueError(f"percentile must be a number in (0, 100]; got {percentile!r}")
+    return bool(condition_check), outliers, float(percentile), bool(smooth)
+
+
+def check_min_patch(value) -> int:
+    """MorphoTester's OPCR minimum patch: a whole number of faces, 0 or more (not a bool)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, Integral) or value < 0:
+        raise ValueError(f"min_patch must be a whole number of faces, 0 or more; got {value!r}")
+    return int(value)
+
+
+def check_morphotester_options(
+    condition_check, outliers, percentile, smooth, min_patch
+) -> tuple[bool, str | None, float, bool, int]:
+    """MorphoTester's options (:func:`check_morphotester_dne_options`, :func:`check_min_patch`)."""
+    dne = check_morphotester_dne_options(condition_check, outliers, percentile, smooth)
+    return (*dne, check_min_patch(min_patch))
