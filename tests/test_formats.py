@@ -194,7 +194,7 @@ def test_signdne_columns_keep_numbers_in_typed_formats(tmp_path, records, suffix
 
 
 def test_unknown_layouts_and_other_tables_are_refused(tmp_path, records):
-    assert set(LAYOUTS) == {"dentopo", "signdne", "molar", "doolkit"}
+    assert set(LAYOUTS) == {"dentopo", "signdne", "molar", "doolkit", "morphotester"}
     with pytest.raises(ValueError, match="unknown columns"):
         write_table(tmp_path / "t.csv", records, columns="morphosource")
     other = tmp_path / "other.tsv"

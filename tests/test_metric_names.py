@@ -13,6 +13,7 @@ from dentopo.topography import (
     GROUPS,
     METRICS,
     MOLAR_METRICS,
+    MORPHOTESTER_METRICS,
     check_metrics,
 )
 
@@ -42,8 +43,9 @@ def test_molar_and_doolkit_names_are_aliases_in_any_case(given, expected):
 def test_sets_name_each_tools_metrics_and_all_names_every_metric():
     assert check_metrics("molar") == MOLAR_METRICS
     assert check_metrics("doolkit") == DOOLKIT_METRICS
+    assert check_metrics("morphotester") == MORPHOTESTER_METRICS
     assert check_metrics("all") == METRICS
-    assert set(GROUPS) == {"all", "molar", "doolkit"}
+    assert set(GROUPS) == {"all", "molar", "doolkit", "morphotester"}
     # a set and names together, in table order, each once
     assert check_metrics("slope,molar,DNE") == MOLAR_METRICS
 

@@ -9,16 +9,21 @@ from __future__ import annotations
 
 import csv
 import shutil
+import warnings
 
 import numpy as np
 import pytest
 import trimesh
 
 from conftest import SHARED
-from dentopo.batch._measure import measure_mesh
+from dentopo.batch._measure import TopographyOptions, measure_mesh
 from dentopo.cli import main
 from dentopo.formats import read_table
 from dentopo.formats._layouts import python2_str
+from dentopo.mesh import read_ply
+
+#: Without --unit every row says that MorphoTester's outline depends on the unit (tested below).
+pytestmark = pytest.mark.filterwarnings("ignore::dentopo.topography.UnitWarning")
 
 SAMPLES = SHARED / "data" / "morphotester"
 EXPECTED = SAMPLES / "expected_morphoresults.txt"
@@ -56,9 +61,29 @@ def test_the_morphotester_table_is_morphotesters_results_file_digit_for_digit(ex
         "error",
         "warnings",
     ]
-    # MorphoTester's own columns, as text, equal; then status ok with no error
+    # MorphoTester's own columns, as text, equal; then status ok with no error, and a warning
+    # that its outline depends on the unit (no --unit given)
     assert ["\t".join(row[:7]) for row in rows] == expected
-    assert all(row[7:] == ["ok", "", ""] for row in rows[1:])
+    assert all(row[7:9] == ["ok", ""] for row in rows[1:])
+    assert all(row[9].startswith("morphotester_rfi: MorphoTester's outline") for row in rows[1:])
+
+
+def test_given_the_unit_morphotesters_rfi_is_the_crowns_in_millimetres(expected, tmp_path):
+    """The same crown in micrometres with --unit um: MorphoTester's digits, areas in um^2."""
+    in_mm = measure_mesh(str(THEROPITHECUS), "morphotester", options=TopographyOptions(unit="mm"))
+    assert in_mm.record["mt_rfi"] == 2.178 and in_mm.record["mt_outline_area"] == 98.056
+    vertices, faces = read_ply(THEROPITHECUS, exact_text=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no unit warning: the unit is given
+        in_um = measure_mesh(
+            (vertices * 1000.0, faces), "morphotester", options=TopographyOptions(unit="um")
+        )
+    assert in_um.record["mt_rfi"] == 2.178
+    assert in_um.record["mt_outline_area"] == pytest.approx(98.056e6, rel=1e-12)
+    assert in_um.record["mm_per_unit"] == 1e-3
+    with pytest.warns(UserWarning, match="morphotester_rfi: MorphoTester's outline area depends"):
+        unitless = measure_mesh((vertices * 1000.0, faces), "morphotester")
+    assert unitless.record["mt_rfi"] != 2.178  # MorphoTester on the crown as given
 
 
 def test_a_morphotester_table_reads_back_with_its_types(expected, tmp_path):

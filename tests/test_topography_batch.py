@@ -124,6 +124,7 @@ def test_metrics_pick_the_columns(crowns, tmp_path):
 @pytest.mark.filterwarnings("ignore:.*the crown points to -z:UserWarning")
 @pytest.mark.filterwarnings("ignore:.*is empty. a mean over no faces:UserWarning")  # convex caps
 @pytest.mark.filterwarnings("ignore:.*angularity depends on the mesh's unit")  # no --unit
+@pytest.mark.filterwarnings("ignore:.*outline area depends on the mesh's unit")  # no --unit
 @pytest.mark.filterwarnings("ignore:.*doolkit assumes millimetres")  # sub-millimetre caps
 def test_library_batch_matches_the_metric_functions(crowns):
     from dentopo.topography import classic_dne, opc, opcr, rfi, slope
@@ -246,7 +247,7 @@ def test_usage_errors(crowns, tmp_path, monkeypatch, capsys, options, message):
 
 
 def test_layouts_are_registered():
-    assert set(LAYOUTS) == {"dentopo", "signdne", "molar", "doolkit"}
+    assert set(LAYOUTS) == {"dentopo", "signdne", "molar", "doolkit", "morphotester"}
     assert layout("molar", ("classic",)).header == (
         "File",
         *MOLAR_HEADER[1:6],

@@ -45,6 +45,10 @@ POWER = {
     "hypso_height": 1,
     "hypso_length": 1,
     "hypso_width": 1,
+    "mt_surface_area": 2,
+    "mt_outline_area": 2,
+    "projected_area_3d": 2,
+    "projected_area_2d": 2,
 }
 
 #: The metric each record key belongs to.

@@ -60,6 +60,7 @@ from ..topography import (
     opc,
     opcr,
     prepare_surface,
+    projected_rfi,
     relief_index,
     relief_rate_below_median,
     rfi,
@@ -294,8 +295,10 @@ _UNDEFINED = {
     "rrate_below_median": "the crown has no relief (all its faces at one elevation)",
 }
 
-#: Record keys of doolkit's unit-dependent metrics that are lengths (1) or areas (2).
+#: Record keys of the unit-dependent metrics (doolkit's, MorphoTester's RFI): lengths, areas.
 _LENGTH_POWER = {
+    "mt_surface_area": 2,
+    "mt_outline_area": 2,
     "area2d": 2,
     "area2d_convex": 2,
     "hypso_height": 1,
@@ -342,6 +345,15 @@ def _in_millimetres(surface, options: TopographyOptions):
         raise
     except Exception as exc:  # each metric names it
         return exc
+
+
+#: What a row says of MorphoTester's RFI measured without the mesh's unit.
+_MORPHOTESTER_UNIT = (
+    "morphotester_rfi: MorphoTester's outline area depends on the mesh's unit (it draws the "
+    "crown with half a unit of margin, and rounds both areas to 3 decimals); measured on the "
+    "crown as given, as MorphoTester measures it (give the unit to measure it in millimetres, "
+    "as MorphoTester's own sample crowns are: unit='mm' if it is)"
+)
 
 
 def _in_mesh_units(values: dict, unit: float) -> dict:
@@ -444,6 +456,7 @@ _TOPOGRAPHY = {
         smooth=options.mt_smooth,
     ),
     "morphotester_rfi": lambda mesh, options: morphotester_rfi(mesh),
+    "rfi_projected": lambda surface, options: projected_rfi(surface, orient=options.orient),
     "morphotester_opcr": lambda mesh, options: morphotester_opcr(
         mesh, min_patch=options.mt_min_patch
     ),
@@ -466,6 +479,13 @@ def _as_read(mesh, raw):
         return as_arrays(mesh)
     except Exception as exc:  # each metric names it
         return exc
+
+
+def _scaled(mesh, unit: float):
+    """`mesh` (vertices, faces) with its vertices in millimetres (or the exception it is)."""
+    if isinstance(mesh, BaseException) or unit == 1.0:
+        return mesh
+    return (mesh[0] * unit, mesh[1])
 
 
 def read_as_morphotester(path) -> tuple[np.ndarray, np.ndarray] | None:
@@ -552,6 +572,8 @@ def measure_mesh(
             given = millimetres
         elif metric in MORPHOTESTER_METRICS:
             given = as_read
+            if metric == "morphotester_rfi" and options.unit is not None:
+                given = _scaled(as_read, options.unit)
         try:
             result = _compute(metric, given, ariadne_options, options, progress)
         except OSError:
@@ -573,6 +595,11 @@ def measure_mesh(
             continue
         if metric in UNIT_DEPENDENT and options.unit is not None:
             values = _in_mesh_units(values, options.unit)
+        elif metric == "morphotester_rfi":
+            if options.unit is not None:
+                values = _in_mesh_units(values, options.unit)
+            else:
+                warnings.warn(_MORPHOTESTER_UNIT, UnitWarning, stacklevel=2)
         elif metric == "angularity":
             warnings.warn(_ANGULARITY_UNIT, UnitWarning, stacklevel=2)
         results[metric] = result

@@ -262,8 +262,8 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         help="the meshes' length unit: um, mm, cm, m, in, or millimetres per unit (0.02). "
         "doolkit's definitions assume millimetres: its angularity, relief index, ARC, shape "
         "index, footprint and hypsodonty are measured on the crown in millimetres (lengths and "
-        "areas given back in the mesh's unit). Default: coordinates taken as millimetres, "
-        "and the rows warn where that matters",
+        "areas given back in the mesh's unit), and so is MorphoTester's RFI. Default: "
+        "coordinates taken as millimetres, and the rows warn where that matters",
     )
     mt = parser.add_argument_group(
         "MorphoTester 1.1.1 (--metrics morphotester; defaults: its published results' settings)"

@@ -69,6 +69,12 @@ METRIC_KEYS = {
     "morphotester_dne": ("mt_dne",),
     "morphotester_rfi": ("mt_rfi", "mt_surface_area", "mt_outline_area"),
     "morphotester_opcr": ("mt_opcr", *MORPHOTESTER_ROTATION_KEYS),
+    "rfi_projected": (
+        "rfi_projected",
+        "rfi_projected_ungar",
+        "projected_area_3d",
+        "projected_area_2d",
+    ),
 }
 #: Settings columns of the topography metrics (ariaDNE's are among its own keys).
 SETTING_KEYS = {
@@ -81,6 +87,7 @@ SETTING_KEYS = {
     # (millimetres per unit; empty: taken as millimetres)
     **dict.fromkeys(UNIT_DEPENDENT, ("mm_per_unit",)),
     "morphotester_dne": ("mt_condition_check", "mt_outliers", "mt_percentile", "mt_smooth"),
+    "morphotester_rfi": ("mm_per_unit",),
     "morphotester_opcr": ("mt_min_patch",),
 }
 #: Columns of the metrics that assume the crown points to +z: what was found and done, and

@@ -32,6 +32,7 @@ METRIC_LABELS = {
     "classic_convex_dne": "classic DNE convex",
     "classic_concave_dne": "classic DNE concave",
     "rfi": "RFI",
+    "rfi_projected": "RFI, projected footprint",
     "opcr": "OPCR",
     "opc": "OPC",
     "slope": "slope (\u00b0)",

@@ -42,6 +42,7 @@ from ._metrics import (
     MORPHOTESTER_METRICS,
     MORPHOTESTER_ROTATION_KEYS,
     ORIENTED,
+    OWN_METRICS,
     check_metrics,
     metric_names,
     rotation_key,
@@ -85,6 +86,12 @@ from .footprint._doolkit import (
     convex_hull,
     footprint_area,
 )
+from .footprint._projected import (
+    PROJECTED_FOOTPRINT_FIELDS,
+    ProjectedFootprintError,
+    ProjectedFootprintResult,
+    projected_footprint,
+)
 from .opc._doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
 from .opc._molar import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
 from .opc._morphotester import (
@@ -122,6 +129,7 @@ from .relief._morphotester import (
     MorphoTesterRFIResult,
     morphotester_rfi,
 )
+from .relief._projected import PROJECTED_RFI_FIELDS, ProjectedRFIResult, projected_rfi
 from .slope._doolkit import (
     DOOLKIT_SLOPE_FIELDS,
     INCLINATION_FIELDS,
@@ -181,6 +189,9 @@ __all__ = [
     "OPC_FIELDS",
     "ORIENTED",
     "ORIENT_MODES",
+    "OWN_METRICS",
+    "PROJECTED_FOOTPRINT_FIELDS",
+    "PROJECTED_RFI_FIELDS",
     "RELIEF_INDEX_FIELDS",
     "RFI_FIELDS",
     "SHAPE_INDEX_FIELDS",
@@ -208,6 +219,9 @@ __all__ = [
     "OPCRResult",
     "OPCResult",
     "Orientation",
+    "ProjectedFootprintError",
+    "ProjectedFootprintResult",
+    "ProjectedRFIResult",
     "RFIResult",
     "ReliefIndexResult",
     "ReliefRateResult",
@@ -255,6 +269,8 @@ __all__ = [
     "opcr",
     "orient_vertices",
     "prepare_surface",
+    "projected_footprint",
+    "projected_rfi",
     "r_round",
     "relief_index",
     "relief_rate",

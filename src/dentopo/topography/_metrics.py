@@ -6,7 +6,9 @@ dental-topography metrics in this subpackage.  The names are what
 ``--metrics`` accepts and what a table's columns are grouped by; their order
 is the order of the columns (ariaDNE first, then molaR's batch order: classic
 DNE, RFI, OPCR, OPC, slope, then ARC, then doolkit's metrics in the order of
-doolkit's own table, then MorphoTester's in the order of its own).
+doolkit's own table, then MorphoTester's in the order of its own, then those
+no earlier tool computes: ``rfi_projected``, the relief index on the exact
+projected footprint).
 
 molaR's and doolkit's own function names are accepted as aliases, in any
 case (``DNE``, ``RFI``, ``OPCr``, ``Slope``, ``ARC``; ``inclin``, ``rrate``,
@@ -45,8 +47,11 @@ DOOLKIT_METRICS = (
 #: MorphoTester 1.1.1's metrics, in the order of its table's columns (DNE, RFI, OPCR).
 MORPHOTESTER_METRICS = ("morphotester_dne", "morphotester_rfi", "morphotester_opcr")
 
+#: Metrics no earlier tool computes: the relief index on the exact projected footprint.
+OWN_METRICS = ("rfi_projected",)
+
 #: Every metric, in the order of a table's columns.
-METRICS = ("ariadne", *MOLAR_METRICS, *DOOLKIT_METRICS, *MORPHOTESTER_METRICS)
+METRICS = ("ariadne", *MOLAR_METRICS, *DOOLKIT_METRICS, *MORPHOTESTER_METRICS, *OWN_METRICS)
 
 #: What ``metrics="all"`` computes.
 ALL = "all"
@@ -84,6 +89,7 @@ ORIENTED = frozenset(
         "doolkit_opcr",
         "relief_index",
         "relief_rate",
+        "rfi_projected",
     }
 )
 

@@ -41,6 +41,12 @@ FINE_STEP = 0.001
 DOWN_STEP = 0.005
 MAX_EVALUATIONS = 99
 
+#: What molaR's failures add: the relief index that needs no alpha.
+PROJECTED_HINT = (
+    "the relief index on the exact projected footprint needs no alpha and exists for every "
+    "open crown: use metrics='rfi_projected' (dentopo.topography.projected_rfi)"
+)
+
 #: The verdicts on a hull (see :func:`rfi`).
 STRUCTURAL, FAN, OK = "S", "F", "OK"
 
@@ -52,7 +58,9 @@ class AlphaAdjustmentError(ValueError):
     pinches there) or some point of the hull's edge is on no arc (an isolated
     point, a point joined only by dangling edges, or a pinch cut off on both
     sides).  Try ``find_alpha=True`` (molaR's ``findAlpha``) or another
-    ``alpha``.
+    ``alpha``; or the relief index on the exact projected footprint
+    (:func:`dentopo.topography.projected_rfi`, batch metric ``rfi_projected``),
+    which needs no alpha and exists for every open crown.
     """
 
 
@@ -261,7 +269,7 @@ class _Footprint:
             raise FootprintError(
                 f"at alpha = {arcs.alpha!r} the vertices' mean lies on the line through the "
                 "two ends of a hull arc: molaR's fan test divides 0 by 0 and R stops on the "
-                "missing value (RFI is NA)"
+                f"missing value (RFI is NA); {PROJECTED_HINT}"
             )
         return answer == FAN_INSIDE
 
@@ -279,7 +287,8 @@ class _Footprint:
             raise FootprintError(
                 f"at alpha = {arcs.alpha!r} the hull's boundary pinches and is cut at "
                 f"{arcs.new} point(s) of its own, which are not footprint points: molaR's 2D "
-                "area stops on 'subscript out of bounds' (RFI is NA); try another alpha"
+                "area stops on 'subscript out of bounds' (RFI is NA); try another alpha, or "
+                + PROJECTED_HINT
             )
         b1, b2 = self.flat[ends[:, 0]], self.flat[ends[:, 1]]
         b11 = b1[:, 0] * b1[:, 0] + b1[:, 1] * b1[:, 1]
@@ -436,9 +445,10 @@ def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False, orient: str = "
             raise AlphaAdjustmentError(
                 f"alpha adjustment required at alpha = {alpha!r}: {problem}; "
                 + (
-                    "molaR's search from there failed too"
+                    f"molaR's search from there failed too; {PROJECTED_HINT}"
                     if find_alpha
-                    else "use find_alpha=True to search for an alpha, or choose another alpha"
+                    else f"{PROJECTED_HINT}; for molaR's own number, use find_alpha=True to "
+                    "search for an alpha (the search can fail too), or choose another alpha"
                 )
             )
         if footprint.fan(arcs):
