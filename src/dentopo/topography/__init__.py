@@ -10,10 +10,11 @@ MorphoTester 1.1.1):
 - ``curvature``: ARC (molaR's and doolkit's) and doolkit's angularity;
 - ``opc``: orientation patch count and its rotated mean (molaR's, doolkit's, MorphoTester's);
 - ``relief``: relief index and the other height measures (molaR's RFI with its alpha search,
-  doolkit's relief indices, relief rate, shape index, hypsodonty, MorphoTester's RFI);
+  doolkit's relief indices, relief rate, shape index, hypsodonty, MorphoTester's RFI, and ours
+  on the exact projected footprint, ``_projected``);
 - ``footprint``: the outline projected on the occlusal plane (molaR's alpha shape on a
   certified Delaunay triangulation; doolkit's convex or concave hull, a port of concaveman;
-  MorphoTester's outline counted in pixels);
+  MorphoTester's outline counted in pixels; the exact projected footprint);
 - ``surface``: how each tool reads the crown (molaR's surface preparation, the float32 VCG
   emulation), which way it points, and the compiled passes the families share.
 
