@@ -59,7 +59,7 @@ def _crown():
     if os.path.exists(NORMAL):
         mesh = load_mesh(NORMAL)
     else:  # a clone without ../shared: the bundled crown
-        mesh = load_mesh(tooth())
+        mesh = tooth()  # a Trimesh already
     return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces)
 
 
