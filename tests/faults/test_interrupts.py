@@ -393,6 +393,7 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
         "shape_index",
         "hypsodonty",
         "elevation",
+        "projected_rfi",
     ):
         getattr(topography, name)(crown)
     topography.footprint_area(crown, hull="convex")
