@@ -91,6 +91,11 @@ FACTORIES = {
     "ShapeIndexResult": (lambda m: topography.shape_index(m), "formfactor"),
     "HypsodontyResult": (lambda m: topography.hypsodonty(m), "hypsodonty"),
     "FootprintResult": (lambda m: topography.footprint_area(m), "area"),
+    "MorphoTesterDNEResult": (lambda m: topography.morphotester_dne(m), "dne"),
+    "MorphoTesterRFIResult": (lambda m: topography.morphotester_rfi(m), "rfi"),
+    "MorphoTesterOPCRResult": (lambda m: topography.morphotester_opcr(m), "opcr"),
+    "ProjectedFootprintResult": (lambda m: topography.projected_footprint(m), "area"),
+    "ProjectedRFIResult": (lambda m: topography.projected_rfi(m), "rfi"),
     "BandwidthSweep": (
         lambda m: dentopo.bandwidth_sweep(m, bandwidths=[0.08], sign_methods=["centroid"]),
         None,

@@ -90,6 +90,10 @@ QUANTITIES = {
     "shape_index": ("shape_formfactor", "shape_elongation"),
     "footprint": ("area2d",),
     "hypsodonty": ("hypso_hypsodonty",),
+    "morphotester_dne": ("mt_dne",),
+    "morphotester_rfi": ("mt_rfi",),
+    "morphotester_opcr": ("mt_opcr",),
+    "rfi_projected": ("rfi_projected", "rfi_projected_ungar"),
 }
 
 PROTOCOL_STUDY_COLUMNS = (
