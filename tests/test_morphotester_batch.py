@@ -199,7 +199,7 @@ def test_morphotesters_rfi_without_matplotlib_is_one_line_before_any_file(
     assert (
         err
         == "dentopo: "
-        + missing_extra_message("MorphoTester's outline area (morphotester_rfi)", "viz")
+        + missing_extra_message("MorphoTester's outline areas (morphotester_rfi)", "viz")
         + "\n"
     )
     assert not out.exists()

@@ -145,7 +145,7 @@ DATA_FRAMES = Feature("data frames", "pandas", "table")
 STUDY_FIGURES = Feature("study figures", "matplotlib", "study")
 #: MorphoTester's outline area (its RFI), counted in a picture drawn by matplotlib's Agg.
 MORPHOTESTER_OUTLINE = Feature(
-    "MorphoTester's outline area (morphotester_rfi)", "matplotlib", "viz"
+    "MorphoTester's outline areas (morphotester_rfi)", "matplotlib", "viz"
 )
 #: ``.xlsx`` tables.
 EXCEL = Feature("Excel tables", "openpyxl", "excel")
