@@ -15,11 +15,8 @@ import numpy as np
 
 from ..._html_repr import result_html
 from ...mesh import as_arrays
-from .._parameters import MORPHOTESTER_OUTLIERS, check_morphotester_dne_options
+from .._parameters import check_morphotester_dne_options
 from ..surface import _morphotester as mt
-
-#: MorphoTester's outlier types: the value ranked, energy density or energy x area.
-OUTLIER_TYPES = MORPHOTESTER_OUTLIERS
 
 #: MorphoTester's condition-number limit: a face whose first fundamental form has a 2-norm
 #: condition number above it gets zero energy.

@@ -14,8 +14,8 @@ rebuilds both exactly as the JavaScript does:
 - the point R-tree (rbush, 16 entries a node) is bulk-loaded with rbush's OMT
   packing: its Floyd-Rivest selection (quickselect) and the same stack of
   sub-ranges, with V8's ``Math.log`` and ``Math.exp`` (the fdlibm functions,
-  ported below, since the C library's may differ in the last bit and a
-  selection bound is a ``floor``), so leaves hold the same points in the same
+  ported in ``_jsmath``, since the C library's may differ in the last bit and
+  a selection bound is a ``floor``), so leaves hold the same points in the same
   order; points are removed as rbush removes them (empty nodes dropped,
   boxes recomputed up the path), which keeps the tree the JavaScript's;
 - the candidate search pops a copy of tinyqueue's binary heap (same sift-up and
@@ -55,16 +55,8 @@ monotone-convex-hull-2d, robust-orientation (Mikola Lysenko): MIT License.
 point-in-polygon (James Halliday): MIT License.  The segment-to-segment
 distance is Dan Sunday's (geomalgorithms.com), as concaveman ports it.
 
-The natural logarithm and exponential are ported from fdlibm (FreeBSD msun
-``e_log.c`` and ``e_exp.c``, as V8's ``ieee754`` has them):
-
-    Copyright (C) 1993 by Sun Microsystems, Inc. All rights reserved.
-    (e_exp.c: Copyright (C) 2004 by Sun Microsystems, Inc.)
-    Developed at SunSoft, a Sun Microsystems, Inc. business.
-    Permission to use, copy, modify, and distribute this software is freely
-    granted, provided that this notice is preserved.
-
-Its R-tree is ``_rbush``, V8's arithmetic ``_jsmath``.
+Its R-tree is ``_rbush``, V8's arithmetic (fdlibm's ``log`` and ``exp``, exact orientation,
+the monotone convex hull) ``_jsmath``, each with its licence.
 
 May import: nothing of dentopo but :mod:`dentopo._jit`.
 """
