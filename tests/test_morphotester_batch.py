@@ -203,3 +203,15 @@ def test_morphotesters_rfi_without_matplotlib_is_one_line_before_any_file(
         + "\n"
     )
     assert not out.exists()
+
+
+def test_morphotesters_metrics_alone_read_a_ply_file_once(expected, monkeypatch):
+    """The file as MorphoTester reads it is all they need: dentopo's own reading is skipped."""
+    from dentopo.batch import _measure
+
+    def no_second_reading(*args, **kwargs):
+        raise AssertionError("load_mesh called for MorphoTester's metrics alone")
+
+    monkeypatch.setattr(_measure, "load_mesh", no_second_reading)
+    record = measure_mesh(str(THEROPITHECUS), "morphotester").record
+    assert record["mt_dne"] == 249.806 and record["mt_opcr"] == 76.5

@@ -548,9 +548,11 @@ def measure_mesh(
     morphotester = [metric for metric in metrics if metric in MORPHOTESTER_METRICS]
     if morphotester and raw is None and isinstance(mesh, (str, os.PathLike)):
         raw = read_as_morphotester(mesh)
-    if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",):
-        mesh = load_mesh(mesh)  # once for all the metrics (ariaDNE alone reads it itself)
     others = [metric for metric in metrics if metric not in MORPHOTESTER_METRICS]
+    # read once for all the metrics; ariaDNE alone reads it itself, and MorphoTester's alone
+    # need only the file as MorphoTester reads it
+    if isinstance(mesh, (str, os.PathLike)) and metrics != ("ariadne",) and (others or raw is None):
+        mesh = load_mesh(mesh)
     surface = _prepared(mesh, options) if others and others != ["ariadne"] else None
     as_read = _as_read(mesh, raw) if morphotester else None
     millimetres = surface

@@ -129,9 +129,12 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
                     and settings.prepare is None
                 ):
                     raw = read_as_morphotester(task.path)
+                only_read_raw = raw is not None and set(settings.metrics) <= set(
+                    MORPHOTESTER_METRICS
+                )
                 if (
                     settings.geometry is not None
-                    or settings.metrics != ("ariadne",)
+                    or (settings.metrics != ("ariadne",) and not only_read_raw)
                     or settings.prepare is not None
                 ):
                     mesh = load_mesh(task.path, geometry=settings.geometry)  # once for all
