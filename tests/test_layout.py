@@ -68,6 +68,7 @@ TOPOGRAPHY_FAMILIES = {
     "slope": {"surface"},
     "curvature": {"surface"},
     "dne": {"surface"},
+    "occlusion": {"surface"},
     "opc": {"surface", "slope"},
     "relief": {"surface", "footprint", "slope"},
 }

@@ -147,6 +147,8 @@ STUDY_FIGURES = Feature("study figures", "matplotlib", "study")
 MORPHOTESTER_OUTLINE = Feature(
     "MorphoTester's outline areas (morphotester_rfi)", "matplotlib", "viz"
 )
+#: PCV's exact method: a ray per vertex and direction, cast by Embree (embreex).
+EXACT_OCCLUSION = Feature("exact ambient occlusion (PCV method 'exact')", "embreex", "rays")
 #: ``.xlsx`` tables.
 EXCEL = Feature("Excel tables", "openpyxl", "excel")
 #: The collection report's plots and 3D views (plotly.js, inlined into the page).
@@ -164,6 +166,7 @@ FEATURES = (
     DATA_FRAMES,
     STUDY_FIGURES,
     MORPHOTESTER_OUTLINE,
+    EXACT_OCCLUSION,
     EXCEL,
     REPORT,
     APP,

@@ -397,6 +397,10 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     ):
         getattr(topography, name)(crown)
     topography.footprint_area(crown, hull="convex")
+    topography.pcv(crown, rays=8)
+    from dentopo.topography.occlusion._depth import lit_counts_depth_buffer
+
+    lit_counts_depth_buffer(crown.vertices, crown.faces, np.eye(3), 64, path="image")
 
     kernels = {}
     for info in pkgutil.walk_packages(dentopo.__path__, "dentopo."):

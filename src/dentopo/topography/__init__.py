@@ -15,6 +15,8 @@ MorphoTester 1.1.1):
 - ``footprint``: the outline projected on the occlusal plane (molaR's alpha shape on a
   certified Delaunay triangulation; doolkit's convex or concave hull, a port of concaveman;
   MorphoTester's outline counted in pixels; the exact projected footprint);
+- ``occlusion``: PCV, ambient occlusion (CloudCompare's qPCV: its light directions
+  ``_directions``, its depth buffers ``_depth``; exact rays through Embree ``_rays``);
 - ``surface``: how each tool reads the crown (molaR's surface preparation, the float32 VCG
   emulation), which way it points, and the compiled passes the families share.
 
@@ -61,6 +63,7 @@ from ._parameters import (
     check_min_area,
     check_morphotester_options,
     check_opcr_options,
+    check_pcv_options,
 )
 from ._units import UNIT_DEPENDENT, UNITS, UnitWarning, millimetres_per_unit
 from .curvature._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
@@ -93,6 +96,7 @@ from .footprint._projected import (
     ProjectedFootprintResult,
     projected_footprint,
 )
+from .occlusion._pcv import PCV_FIELDS, PCVResult, pcv
 from .opc._doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
 from .opc._molar import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
 from .opc._morphotester import (
@@ -191,6 +195,7 @@ __all__ = [
     "ORIENTED",
     "ORIENT_MODES",
     "OWN_METRICS",
+    "PCV_FIELDS",
     "PROJECTED_FOOTPRINT_FIELDS",
     "PROJECTED_RFI_FIELDS",
     "RELIEF_INDEX_FIELDS",
@@ -220,6 +225,7 @@ __all__ = [
     "OPCRResult",
     "OPCResult",
     "Orientation",
+    "PCVResult",
     "ProjectedFootprintError",
     "ProjectedFootprintResult",
     "ProjectedRFIResult",
@@ -245,6 +251,7 @@ __all__ = [
     "check_morphotester_options",
     "check_opcr_options",
     "check_orient",
+    "check_pcv_options",
     "classic_dne",
     "concave_hull",
     "convex_hull",
@@ -269,6 +276,7 @@ __all__ = [
     "opc",
     "opcr",
     "orient_vertices",
+    "pcv",
     "prepare_surface",
     "projected_footprint",
     "projected_rfi",

@@ -183,3 +183,19 @@ def check_morphotester_options(
     """MorphoTester's options (:func:`check_morphotester_dne_options`, :func:`check_min_patch`)."""
     dne = check_morphotester_dne_options(condition_check, outliers, percentile, smooth)
     return (*dne, check_min_patch(min_patch))
+
+
+#: How PCV decides that a vertex is lit from a direction.
+PCV_METHODS = ("cloudcompare", "exact")
+
+
+def check_pcv_options(rays, hemisphere, method) -> tuple[int, bool, str]:
+    """PCV's options as it uses them, or an error naming the first wrong one.
+
+    `rays`: an integer of at least 1 (the light directions asked for); `hemisphere`:
+    True or False; `method`: one of :data:`PCV_METHODS`.
+    """
+    rays = check_int("rays", rays, low=1)
+    if not isinstance(hemisphere, (bool, np.bool_)):
+        raise ValueError(f"hemisphere must be True or False; got {hemisphere!r}")
+    return rays, bool(hemisphere), check_choice("method", method, PCV_METHODS)
