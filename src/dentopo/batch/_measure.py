@@ -44,6 +44,7 @@ from ..topography import (
     check_morphotester_options,
     check_opcr_options,
     check_orient,
+    check_pcv_options,
     classic_dne,
     doolkit_arc,
     doolkit_dne,
@@ -139,6 +140,9 @@ class TopographyOptions:
     mt_percentile: float = 99.9
     mt_smooth: bool = False
     mt_min_patch: int = 5
+    pcv_rays: int = 256
+    pcv_hemisphere: bool = True
+    pcv_method: str = "cloudcompare"
 
     def __post_init__(self):
         # the metrics' own checks, made once for the whole batch
@@ -173,6 +177,12 @@ class TopographyOptions:
         object.__setattr__(self, "mt_percentile", percentile)
         object.__setattr__(self, "mt_smooth", smooth)
         object.__setattr__(self, "mt_min_patch", patch)
+        rays, hemisphere, method = check_pcv_options(
+            self.pcv_rays, self.pcv_hemisphere, self.pcv_method
+        )
+        object.__setattr__(self, "pcv_rays", rays)
+        object.__setattr__(self, "pcv_hemisphere", hemisphere)
+        object.__setattr__(self, "pcv_method", method)
 
     def rotations(self) -> tuple[float, ...]:
         """OPCR's rotations, degrees."""
@@ -199,6 +209,9 @@ class TopographyOptions:
             "mt_percentile": self.mt_percentile,
             "mt_smooth": self.mt_smooth,
             "mt_min_patch": self.mt_min_patch,
+            "pcv_rays": self.pcv_rays,
+            "pcv_hemisphere": self.pcv_hemisphere,
+            "pcv_method": self.pcv_method,
         }
         record = {}
         for metric in metrics:
@@ -457,10 +470,23 @@ _TOPOGRAPHY = {
     ),
     "morphotester_rfi": lambda mesh, options: morphotester_rfi(mesh),
     "rfi_projected": lambda surface, options: projected_rfi(surface, orient=options.orient),
+    "pcv": lambda surface, options: _pcv(
+        surface,
+        rays=options.pcv_rays,
+        hemisphere=options.pcv_hemisphere,
+        method=options.pcv_method,
+        orient=options.orient,
+    ),
     "morphotester_opcr": lambda mesh, options: morphotester_opcr(
         mesh, min_patch=options.mt_min_patch
     ),
 }
+
+
+def _pcv(surface, **options):
+    from ..topography import pcv  # with its compiled depth buffers, only where asked
+
+    return pcv(surface, **options)
 
 
 def _as_read(mesh, raw):

@@ -259,6 +259,9 @@ def compute_batch(
     mt_percentile: float = 99.9,
     mt_smooth: bool = False,
     mt_min_patch: int = 5,
+    pcv_rays: int = 256,
+    pcv_hemisphere: bool = True,
+    pcv_method: str = "cloudcompare",
     scheduler=None,
     resume_from: str | os.PathLike | Iterable[dict] | None = None,
     per_vertex_dir: str | os.PathLike | None = None,
@@ -334,6 +337,10 @@ def compute_batch(
         OPCR's smallest patch.  Defaults: its published results' settings.
         MorphoTester's metrics measure each PLY file as MorphoTester reads it
         (nothing cleaned, ASCII coordinates as float64 from their text).
+    pcv_rays, pcv_hemisphere, pcv_method : int, bool, str
+        PCV's light directions and method (:func:`dentopo.topography.pcv`;
+        CloudCompare's defaults: 256 directions, the northern hemisphere,
+        its depth buffers).
     prepare : Protocol, str or path-like, optional
         A preparation protocol (a :class:`dentopo.Protocol`, the name of a
         shipped one, see :func:`dentopo.prepare.named_protocols`, or a TOML
@@ -445,6 +452,9 @@ def compute_batch(
         mt_percentile=mt_percentile,
         mt_smooth=mt_smooth,
         mt_min_patch=mt_min_patch,
+        pcv_rays=pcv_rays,
+        pcv_hemisphere=pcv_hemisphere,
+        pcv_method=pcv_method,
     )
     check_extras(settings, scheduler=scheduler)
     if per_vertex_dir is not None and not os.path.isdir(per_vertex_dir):

@@ -13,7 +13,7 @@ import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from .._optional import DASK, FAST_METHOD, MORPHOTESTER_OUTLINE
+from .._optional import DASK, EXACT_OCCLUSION, FAST_METHOD, MORPHOTESTER_OUTLINE
 from ..ariadne import check_bandwidth, check_cutoff, check_distance_type, check_method
 from ..formats import record_keys
 from ..mesh import check_geometry
@@ -78,7 +78,8 @@ def check_extras(settings: Settings, *, scheduler=None) -> None:
     A `scheduler` needs dask.distributed in this process; ``method="fast"``
     needs finufft where the meshes are computed, i.e. here unless they run on
     a scheduler (whose workers report a missing finufft per file); MorphoTester's
-    RFI needs matplotlib (its outline is counted in a picture) likewise.  Cheap:
+    RFI needs matplotlib (its outline is counted in a picture) likewise, and PCV's
+    exact method embreex.  Cheap:
     nothing is imported.
 
     Raises
@@ -93,6 +94,9 @@ def check_extras(settings: Settings, *, scheduler=None) -> None:
         FAST_METHOD.check()
     if scheduler is None and "morphotester_rfi" in settings.metrics:
         MORPHOTESTER_OUTLINE.check()  # matplotlib draws MorphoTester's outline
+    exact = settings.topography.pcv_method == "exact"
+    if scheduler is None and "pcv" in settings.metrics and exact:
+        EXACT_OCCLUSION.check()  # Embree casts the rays
 
 
 def make_settings(
@@ -125,6 +129,9 @@ def make_settings(
     mt_percentile: float = 99.9,
     mt_smooth: bool = False,
     mt_min_patch: int = 5,
+    pcv_rays: int = 256,
+    pcv_hemisphere: bool = True,
+    pcv_method: str = "cloudcompare",
 ) -> Settings:
     """Validated batch settings (the same checks as the metrics, made once up front).
 
@@ -173,6 +180,9 @@ def make_settings(
             mt_percentile=mt_percentile,
             mt_smooth=mt_smooth,
             mt_min_patch=mt_min_patch,
+            pcv_rays=pcv_rays,
+            pcv_hemisphere=pcv_hemisphere,
+            pcv_method=pcv_method,
         ),
         prepare=None if prepare is None else _check_protocol(prepare),
     )

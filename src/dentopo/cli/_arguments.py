@@ -33,7 +33,7 @@ PICTURE_FORMATS = (".png", ".svg", ".pdf")
 CURVATURE_FIELDS = ("local_curvature", "local_dne")
 #: Per-face maps of one value (:data:`dentopo.figures.FACE_METRICS`): ARC on the diverging
 #: map, the others on the sequential one.
-FACE_PICTURES = ("arc", "angularity", "inclination", "elevation")
+FACE_PICTURES = ("arc", "angularity", "inclination", "elevation", "pcv")
 #: Pictures computed in the picture step from the mesh itself (not batch metrics).
 PICTURE_STEP = ("elevation",)
 METRIC_PICTURES = ("slope", "opc", "rfi", *FACE_PICTURES)
@@ -305,6 +305,29 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
         metavar="N",
         help="MorphoTester's OPCR: patches of fewer faces are not counted (default 5, as its "
         "published results; its window's default is 3)",
+    )
+    light = parser.add_argument_group("PCV, ambient occlusion (--metrics pcv)")
+    light.add_argument(
+        "--pcv-rays",
+        type=int,
+        default=256,
+        metavar="N",
+        help="light directions, an equal-area partition of the sphere (default 256, "
+        "CloudCompare's)",
+    )
+    light.add_argument(
+        "--pcv-sphere",
+        action="store_true",
+        help="light from the whole sphere (default: the northern hemisphere only, light from "
+        "+z, CloudCompare's default)",
+    )
+    light.add_argument(
+        "--pcv-method",
+        type=str.lower,
+        choices=("cloudcompare", "exact"),
+        default="cloudcompare",
+        help="cloudcompare (default): its depth buffers, numbers comparable with the "
+        "literature; exact: a ray per vertex and direction, no pixels",
     )
     compute.add_argument(
         "--geometry",

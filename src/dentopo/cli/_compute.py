@@ -110,6 +110,9 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
             mt_percentile=args.mt_percentile,
             mt_smooth=args.mt_smooth,
             mt_min_patch=args.mt_min_patch,
+            pcv_rays=args.pcv_rays,
+            pcv_hemisphere=not args.pcv_sphere,
+            pcv_method=args.pcv_method,
         )
     except (TypeError, ValueError) as exc:
         _say(str(exc))

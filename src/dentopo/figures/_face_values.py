@@ -85,7 +85,8 @@ class FaceMetric:
         }
 
 
-#: The per-face pictures of ARC (molaR), angularity, inclination and elevation (doolkit).
+#: The per-face pictures of ARC (molaR), angularity, inclination and elevation (doolkit), and
+#: PCV (ambient occlusion: the share of the light directions each face's corners see).
 FACE_METRICS = {
     "arc": FaceMetric(
         "face_arc",
@@ -113,6 +114,13 @@ FACE_METRICS = {
         "elevation",
         "mesh units",
         "height above the lowest vertex",
+    ),
+    "pcv": FaceMetric(
+        "face_pcv",
+        "PCV",
+        "share of the sky",
+        "0 = no light reaches it, 1 = lit from every direction",
+        limits=(0.0, 1.0),
     ),
 }
 

@@ -75,6 +75,7 @@ METRIC_KEYS = {
         "projected_area_3d",
         "projected_area_2d",
     ),
+    "pcv": ("pcv", "pcv_area"),
 }
 #: Settings columns of the topography metrics (ariaDNE's are among its own keys).
 SETTING_KEYS = {
@@ -89,6 +90,7 @@ SETTING_KEYS = {
     "morphotester_dne": ("mt_condition_check", "mt_outliers", "mt_percentile", "mt_smooth"),
     "morphotester_rfi": ("mm_per_unit",),
     "morphotester_opcr": ("mt_min_patch",),
+    "pcv": ("pcv_rays", "pcv_hemisphere", "pcv_method"),
 }
 #: Columns of the metrics that assume the crown points to +z: what was found and done, and
 #: the ``orient`` setting.
@@ -112,6 +114,7 @@ _INTEGER_COLUMNS = frozenset(
         *MORPHOTESTER_BASE_KEYS,
         *MORPHOTESTER_ROTATION_KEYS,
         "mt_min_patch",
+        "pcv_rays",
     }
 )
 _TEXT_COLUMNS = frozenset(
@@ -128,10 +131,11 @@ _TEXT_COLUMNS = frozenset(
         "dne_boundary",
         "arc_boundary",
         "mt_outliers",
+        "pcv_method",
         PROTOCOL_KEY,
     }
 )
-_BOOL_COLUMNS = frozenset({"find_alpha", "mt_condition_check", "mt_smooth"})
+_BOOL_COLUMNS = frozenset({"find_alpha", "mt_condition_check", "mt_smooth", "pcv_hemisphere"})
 _ROTATION = re.compile(r"opc_(-?[0-9.]+(?:e[-+]?[0-9]+)?)$")
 
 

@@ -36,6 +36,7 @@ METRIC_LABELS = {
     "opcr": "OPCR",
     "opc": "OPC",
     "slope": "slope (\u00b0)",
+    "pcv": "PCV",
 }
 
 #: ariaDNE's settings columns and their defaults (for a table that does not hold them).

@@ -94,6 +94,7 @@ QUANTITIES = {
     "morphotester_rfi": ("mt_rfi",),
     "morphotester_opcr": ("mt_opcr",),
     "rfi_projected": ("rfi_projected", "rfi_projected_ungar"),
+    "pcv": ("pcv",),
 }
 
 PROTOCOL_STUDY_COLUMNS = (

@@ -8,7 +8,7 @@ is the order of the columns (ariaDNE first, then molaR's batch order: classic
 DNE, RFI, OPCR, OPC, slope, then ARC, then doolkit's metrics in the order of
 doolkit's own table, then MorphoTester's in the order of its own, then those
 no earlier tool computes: ``rfi_projected``, the relief index on the exact
-projected footprint).
+projected footprint, and ``pcv``, ambient occlusion).
 
 molaR's and doolkit's own function names are accepted as aliases, in any
 case (``DNE``, ``RFI``, ``OPCr``, ``Slope``, ``ARC``; ``inclin``, ``rrate``,
@@ -47,8 +47,9 @@ DOOLKIT_METRICS = (
 #: MorphoTester 1.1.1's metrics, in the order of its table's columns (DNE, RFI, OPCR).
 MORPHOTESTER_METRICS = ("morphotester_dne", "morphotester_rfi", "morphotester_opcr")
 
-#: Metrics no earlier tool computes: the relief index on the exact projected footprint.
-OWN_METRICS = ("rfi_projected",)
+#: Metrics no earlier tool computes: the relief index on the exact projected footprint, and
+#: PCV (ambient occlusion) as CloudCompare's qPCV computes it by hand, crown by crown.
+OWN_METRICS = ("rfi_projected", "pcv")
 
 #: Every metric, in the order of a table's columns.
 METRICS = ("ariadne", *MOLAR_METRICS, *DOOLKIT_METRICS, *MORPHOTESTER_METRICS, *OWN_METRICS)
@@ -90,6 +91,7 @@ ORIENTED = frozenset(
         "relief_index",
         "relief_rate",
         "rfi_projected",
+        "pcv",
     }
 )
 
