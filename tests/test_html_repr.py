@@ -96,6 +96,7 @@ FACTORIES = {
     "MorphoTesterOPCRResult": (lambda m: topography.morphotester_opcr(m), "opcr"),
     "ProjectedFootprintResult": (lambda m: topography.projected_footprint(m), "area"),
     "ProjectedRFIResult": (lambda m: topography.projected_rfi(m), "rfi"),
+    "PCVResult": (lambda m: topography.pcv(m, rays=16), "pcv"),
     "BandwidthSweep": (
         lambda m: dentopo.bandwidth_sweep(m, bandwidths=[0.08], sign_methods=["centroid"]),
         None,
