@@ -52,6 +52,46 @@ TOLERANCE = 2e-3
 
 
 @njit(cache=True)
+def _view(vertices, resolution):  # pragma: no cover
+    """The bounding box's centre, its diagonal (1 for a single point) and pixels per unit."""
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for a in range(3):
+        lo[a] = vertices[:, a].min()
+        hi[a] = vertices[:, a].max()
+    centre = 0.5 * (lo + hi)
+    diagonal = math.sqrt(np.sum((hi - lo) ** 2))
+    if not diagonal > 0.0:
+        diagonal = 1.0
+    return centre, diagonal, resolution / diagonal
+
+
+@njit(cache=True)
+def _project(vertices, d, centre, diagonal, scale, resolution, px, py, pz):  # pragma: no cover
+    """Each vertex's image coordinates (``px``, ``py``, pixels) and height above the far
+    plane (``pz``) seen along ``-d``: ``u = z x d`` normalised (``x`` when ``d`` is on the z
+    axis), ``v = d x u``."""
+    d0, d1, d2 = d[0], d[1], d[2]
+    ux, uy, uz = -d1, d0, 0.0  # z x d: the view's "up" is z
+    norm = math.sqrt(ux * ux + uy * uy)
+    if norm < 1e-6:
+        ux, uy, uz = 1.0, 0.0, 0.0
+    else:
+        ux /= norm
+        uy /= norm
+    vx = d1 * uz - d2 * uy
+    vy = d2 * ux - d0 * uz
+    vz = d0 * uy - d1 * ux
+    for i in range(vertices.shape[0]):
+        x = vertices[i, 0] - centre[0]
+        y = vertices[i, 1] - centre[1]
+        z = vertices[i, 2] - centre[2]
+        px[i] = (x * ux + y * uy + z * uz) * scale + 0.5 * resolution
+        py[i] = (x * vx + y * vy + z * vz) * scale + 0.5 * resolution
+        pz[i] = x * d0 + y * d1 + z * d2 + diagonal  # above the far plane, > 0
+
+
+@njit(cache=True)
 def _setup(px, py, resolution, a, b, c):  # pragma: no cover
     """A face's pixel box (left, right, bottom, top; empty when left > right or bottom >
     top) and ``1 / twice its signed area`` (0 when flat in the image)."""
@@ -123,16 +163,7 @@ def _lit_counts(
     n = vertices.shape[0]
     m = faces.shape[0]
     k = directions.shape[0]
-    lo = np.empty(3)
-    hi = np.empty(3)
-    for a in range(3):
-        lo[a] = vertices[:, a].min()
-        hi[a] = vertices[:, a].max()
-    centre = 0.5 * (lo + hi)
-    diagonal = math.sqrt(np.sum((hi - lo) ** 2))
-    if not diagonal > 0.0:
-        diagonal = 1.0
-    scale = resolution / diagonal
+    centre, diagonal, scale = _view(vertices, resolution)
     keep = 1.0 - tolerance
     tiles = ((resolution - 1) >> shift) + 1
     counts = np.zeros((threads, n), dtype=np.int64)
@@ -153,24 +184,8 @@ def _lit_counts(
         boxes = np.empty((m, 4), dtype=np.int64)
         inverses = np.empty(m)
         for j in range(t, k, threads):
-            d0, d1, d2 = directions[j, 0], directions[j, 1], directions[j, 2]
-            ux, uy, uz = -d1, d0, 0.0  # z x d: the view's "up" is z
-            norm = math.sqrt(ux * ux + uy * uy)
-            if norm < 1e-6:
-                ux, uy, uz = 1.0, 0.0, 0.0
-            else:
-                ux /= norm
-                uy /= norm
-            vx = d1 * uz - d2 * uy
-            vy = d2 * ux - d0 * uz
-            vz = d0 * uy - d1 * ux
+            _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
             for i in range(n):
-                x = vertices[i, 0] - centre[0]
-                y = vertices[i, 1] - centre[1]
-                z = vertices[i, 2] - centre[2]
-                px[i] = (x * ux + y * uy + z * uz) * scale + 0.5 * resolution
-                py[i] = (x * vx + y * vy + z * vz) * scale + 0.5 * resolution
-                pz[i] = x * d0 + y * d1 + z * d2 + diagonal  # above the far plane, > 0
                 col[i] = min(max(math.floor(px[i]), 0), resolution - 1)
                 row[i] = min(max(math.floor(py[i]), 0), resolution - 1)
                 covered[i] = False
@@ -269,16 +284,7 @@ def _lit_counts_image(
 ):  # pragma: no cover
     n = vertices.shape[0]
     k = directions.shape[0]
-    lo = np.empty(3)
-    hi = np.empty(3)
-    for a in range(3):
-        lo[a] = vertices[:, a].min()
-        hi[a] = vertices[:, a].max()
-    centre = 0.5 * (lo + hi)
-    diagonal = math.sqrt(np.sum((hi - lo) ** 2))
-    if not diagonal > 0.0:
-        diagonal = 1.0
-    scale = resolution / diagonal
+    centre, diagonal, scale = _view(vertices, resolution)
     counts = np.zeros((threads, n), dtype=np.int64)
     for t in prange(threads):
         buffer = np.zeros((resolution, resolution))  # 0: nothing drawn (the far plane)
@@ -286,51 +292,18 @@ def _lit_counts_image(
         py = np.empty(n)
         pz = np.empty(n)
         for j in range(t, k, threads):
-            d0, d1, d2 = directions[j, 0], directions[j, 1], directions[j, 2]
-            ux, uy, uz = -d1, d0, 0.0  # z x d: the view's "up" is z
-            norm = math.sqrt(ux * ux + uy * uy)
-            if norm < 1e-6:
-                ux, uy, uz = 1.0, 0.0, 0.0
-            else:
-                ux /= norm
-                uy /= norm
-            vx = d1 * uz - d2 * uy
-            vy = d2 * ux - d0 * uz
-            vz = d0 * uy - d1 * ux
+            _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
             x0, x1, y0, y1 = resolution, -1, resolution, -1
-            for i in range(n):
-                x = vertices[i, 0] - centre[0]
-                y = vertices[i, 1] - centre[1]
-                z = vertices[i, 2] - centre[2]
-                px[i] = (x * ux + y * uy + z * uz) * scale + 0.5 * resolution
-                py[i] = (x * vx + y * vy + z * vz) * scale + 0.5 * resolution
-                pz[i] = x * d0 + y * d1 + z * d2 + diagonal  # above the far plane, > 0
             for f in range(faces.shape[0]):
                 a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-                ax, ay, bx, by, cx, cy = px[a], py[a], px[b], py[b], px[c], py[c]
-                area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-                if area == 0.0:
-                    continue
-                inverse = 1.0 / area
-                left = max(math.ceil(min(ax, bx, cx) - 0.5), 0)
-                right = min(math.floor(max(ax, bx, cx) - 0.5), resolution - 1)
-                bottom = max(math.ceil(min(ay, by, cy) - 0.5), 0)
-                top = min(math.floor(max(ay, by, cy) - 0.5), resolution - 1)
+                left, right, bottom, top, inverse = _setup(px, py, resolution, a, b, c)
                 if left > right or bottom > top:
                     continue
                 x0, x1 = min(x0, left), max(x1, right)
                 y0, y1 = min(y0, bottom), max(y1, top)
-                za, zb, zc = pz[a], pz[b], pz[c]
                 for row in range(bottom, top + 1):
-                    sy = row + 0.5
                     for col in range(left, right + 1):
-                        sx = col + 0.5
-                        wa = ((bx - sx) * (cy - sy) - (by - sy) * (cx - sx)) * inverse
-                        wb = ((cx - sx) * (ay - sy) - (cy - sy) * (ax - sx)) * inverse
-                        wc = 1.0 - wa - wb
-                        if wa < 0.0 or wb < 0.0 or wc < 0.0:
-                            continue
-                        depth = wa * za + wb * zb + wc * zc
+                        depth = _depth_at(px, py, pz, a, b, c, inverse, col, row)
                         if depth > buffer[row, col]:
                             buffer[row, col] = depth
             for i in range(n):
