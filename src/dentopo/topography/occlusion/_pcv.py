@@ -17,16 +17,13 @@ import trimesh
 
 from ..._html_repr import result_html
 from ...mesh import as_arrays
-from .._parameters import check_choice
+from .._parameters import check_int, check_pcv_options
 from ..surface._molar import Surface
 from ..surface._orientation import Orientation, check_orient, orient_vertices
 from ._directions import light_directions
 
 #: Scalar fields, in the order of output tables.
 PCV_FIELDS = ("pcv", "pcv_area")
-
-#: ``method``: CloudCompare's depth buffer, or one exact ray per vertex and direction.
-PCV_METHODS = ("cloudcompare", "exact")
 
 #: The smallest depth-buffer side accepted.
 MIN_RESOLUTION = 16
@@ -93,14 +90,6 @@ class PCVResult:
         return result_html(self, histogram="vertex_pcv")
 
 
-def _check_int(name: str, value, smallest: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise PCVParameterError(f"{name} must be an integer >= {smallest}; got {value!r}")
-    if value < smallest:
-        raise PCVParameterError(f"{name} must be an integer >= {smallest}; got {value}")
-    return int(value)
-
-
 def pcv(
     mesh,
     *,
@@ -134,13 +123,10 @@ def pcv(
         `method`, `hemisphere` not a bool; ValueError, TypeError for an unusable mesh
         (one without faces included) or `orient`.
     """
-    rays = _check_int("rays", rays, 1)
-    resolution = _check_int("resolution", resolution, MIN_RESOLUTION)
-    if not isinstance(hemisphere, (bool, np.bool_)):
-        raise PCVParameterError(f"hemisphere must be True or False; got {hemisphere!r}")
-    try:
-        method = check_choice("method", method, PCV_METHODS)
-    except ValueError as error:
+    try:  # the batch's checks, one error class for every parameter of this function
+        rays, hemisphere, method = check_pcv_options(rays, hemisphere, method)
+        resolution = check_int("resolution", resolution, low=MIN_RESOLUTION)
+    except (TypeError, ValueError) as error:
         raise PCVParameterError(str(error)) from None
     orient = check_orient(orient)
     if isinstance(mesh, Surface):
@@ -150,7 +136,7 @@ def pcv(
     if len(faces) == 0:
         raise ValueError("the mesh has no faces: PCV needs a triangle mesh")
     vertices, orientation = orient_vertices(vertices, faces, orient)
-    directions = light_directions(rays, bool(hemisphere))
+    directions = light_directions(rays, hemisphere)
     if method == "exact":
         from ._rays import lit_counts_rays
 
@@ -174,7 +160,7 @@ def pcv(
         directions=directions,
         rays=rays,
         n_directions=len(directions),
-        hemisphere=bool(hemisphere),
+        hemisphere=hemisphere,
         method=method,
         resolution=resolution,
         orientation=orientation,
