@@ -16,7 +16,7 @@ import numpy as np
 import trimesh
 
 from ..._html_repr import result_html
-from ...mesh import as_arrays
+from ...mesh import as_arrays, vertex_areas
 from .._parameters import check_int, check_pcv_options
 from ..surface._molar import Surface
 from ..surface._orientation import Orientation, check_orient, orient_vertices
@@ -146,9 +146,7 @@ def pcv(
 
         lit = lit_counts_depth_buffer(vertices, faces, directions, resolution)
     vertex_pcv = lit / float(len(directions))
-    tri = vertices[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    weight = np.bincount(faces.ravel(), np.repeat(area / 3.0, 3), minlength=len(vertices))
+    weight = vertex_areas(vertices, faces)
     total = float(weight.sum())
     if not total > 0:
         raise ValueError("the mesh has no face of non-zero area: PCV needs a surface")
