@@ -60,6 +60,7 @@ from ..topography import (
     morphotester_rfi,
     opc,
     opcr,
+    pcv,
     prepare_surface,
     projected_rfi,
     relief_index,
@@ -470,7 +471,7 @@ _TOPOGRAPHY = {
     ),
     "morphotester_rfi": lambda mesh, options: morphotester_rfi(mesh),
     "rfi_projected": lambda surface, options: projected_rfi(surface, orient=options.orient),
-    "pcv": lambda surface, options: _pcv(
+    "pcv": lambda surface, options: pcv(
         surface,
         rays=options.pcv_rays,
         hemisphere=options.pcv_hemisphere,
@@ -481,12 +482,6 @@ _TOPOGRAPHY = {
         mesh, min_patch=options.mt_min_patch
     ),
 }
-
-
-def _pcv(surface, **options):
-    from ..topography import pcv  # with its compiled depth buffers, only where asked
-
-    return pcv(surface, **options)
 
 
 def _as_read(mesh, raw):
