@@ -20,7 +20,14 @@ from ..batch import FORMAT_PACKAGES, MESH_EXTENSIONS
 from ..figures import DEFAULT_VIEW, VIEW_NAMES
 from ..formats import DEFAULT_PER_VERTEX_FORMATS, FORMATS, LAYOUTS, PER_VERTEX_FORMATS
 from ..sign import SIGN_METHODS
-from ..topography import BOUNDARY_RULES, DUPLICATE_MODES, GROUPS, METRICS, ORIENT_MODES
+from ..topography import (
+    BOUNDARY_RULES,
+    DUPLICATE_MODES,
+    GROUPS,
+    METRICS,
+    ORIENT_MODES,
+    PCV_METHODS,
+)
 from ._progress import PROG
 
 #: Environment variable naming a Dask scheduler, used when --scheduler is not given.
@@ -324,7 +331,7 @@ def build_parser(subcommands: tuple[str, ...] = ()) -> argparse.ArgumentParser:
     light.add_argument(
         "--pcv-method",
         type=str.lower,
-        choices=("cloudcompare", "exact"),
+        choices=PCV_METHODS,
         default="cloudcompare",
         help="cloudcompare (default): its depth buffers, numbers comparable with the "
         "literature; exact: a ray per vertex and direction, no pixels",

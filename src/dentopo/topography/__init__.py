@@ -53,6 +53,7 @@ from ._metrics import (
 )
 from ._parameters import (
     BOUNDARY_RULES,
+    PCV_METHODS,
     check_alpha,
     check_arc_options,
     check_choice,
@@ -196,6 +197,7 @@ __all__ = [
     "ORIENT_MODES",
     "OWN_METRICS",
     "PCV_FIELDS",
+    "PCV_METHODS",
     "PROJECTED_FOOTPRINT_FIELDS",
     "PROJECTED_RFI_FIELDS",
     "RELIEF_INDEX_FIELDS",
