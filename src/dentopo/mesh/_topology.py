@@ -117,7 +117,9 @@ def sort_ints(values):  # pragma: no cover
     """
     order = np.empty(values.shape[0], np.int64)
     stable_order(values, order)
-    values[:] = values[order]
+    ordered = values[order]
+    for k in range(values.shape[0]):  # element by element: an array assignment compiles
+        values[k] = ordered[k]  # numba's shape-mismatch message (2 s on a fresh install)
 
 
 @njit(cache=True)
@@ -161,7 +163,8 @@ def stable_order(key, order):  # pragma: no cover
         src, dst = dst, src
         width *= 2
     if src is not order:
-        order[:] = src
+        for k in range(n):
+            order[k] = src[k]
 
 
 @njit(cache=True)

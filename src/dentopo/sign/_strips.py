@@ -59,29 +59,36 @@ def _cut_strips(tri, ptr, bounds, out):
             if d < shortest:
                 shortest = d
                 best = a
-        apex = tri[t, best]
-        va = tri[t, (best + 1) % 3]
-        vb = tri[t, (best + 2) % 3]
+        apex = best  # corners of tri[t]: the apex and the ends of its far edge
+        va = (best + 1) % 3
+        vb = (best + 2) % 3
         for s in range(count):
             s0 = bounds[ptr[t] + s]
             s1 = bounds[ptr[t] + s + 1]
-            p0 = apex + s0 * (va - apex)
-            q0 = apex + s0 * (vb - apex)
-            p1 = apex + s1 * (va - apex)
-            q1 = apex + s1 * (vb - apex)
             if s == 0:
-                out[k, 0] = apex
-                out[k, 1] = p1
-                out[k, 2] = q1
+                for x in range(3):
+                    out[k, 0, x] = tri[t, apex, x]
+                _along(tri, t, apex, va, s1, out, k, 1)
+                _along(tri, t, apex, vb, s1, out, k, 2)
                 k += 1
                 continue
-            out[k, 0] = p0
-            out[k, 1] = p1
-            out[k, 2] = q1
-            out[k + 1, 0] = p0
-            out[k + 1, 1] = q1
-            out[k + 1, 2] = q0
+            _along(tri, t, apex, va, s0, out, k, 0)
+            _along(tri, t, apex, va, s1, out, k, 1)
+            _along(tri, t, apex, vb, s1, out, k, 2)
+            _along(tri, t, apex, va, s0, out, k + 1, 0)
+            _along(tri, t, apex, vb, s1, out, k + 1, 1)
+            _along(tri, t, apex, vb, s0, out, k + 1, 2)
             k += 2
+
+
+@njit(cache=True)
+def _along(tri, t, apex, end, s, out, k, corner):  # pragma: no cover
+    """``out[k, corner] = apex + s (end - apex)`` for corners of ``tri[t]``, coordinate by
+    coordinate (the same arithmetic as the arrays', without compiling numba's array
+    assignment and its shape-mismatch message: seconds on a fresh install)."""
+    for x in range(3):
+        a = tri[t, apex, x]
+        out[k, corner, x] = a + s * (tri[t, end, x] - a)
 
 
 def _strip_bounds(longest: np.ndarray, target: float, allowed: int):

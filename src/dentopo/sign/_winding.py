@@ -260,7 +260,9 @@ def _query(tri, link, nodes, packed, queries, ratio, second_order, out, work):
                 tri, link, nodes, packed, queries, ratio, second_order, out, work, first, last
             )
     else:
-        _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, work, 0, n)
+        _query_range(
+            tri, link, nodes, packed, queries, ratio, second_order, out, work, np.int64(0), n
+        )
 
 
 @njit(cache=True)
@@ -275,7 +277,7 @@ def _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, wo
         total = 0.0
         re = 1.0  # the near field's triangles, as a product (``_near_product``)
         im = 0.0
-        turns = 0
+        turns = np.int64(0)  # not the literal 0: one compilation of _near_product
         visits = 1
         top = 0
         far, term = _far_field(nodes, packed, 0, qx, qy, qz, ratio, second_order)

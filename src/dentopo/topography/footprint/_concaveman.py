@@ -217,7 +217,8 @@ def _crosses(x1, y1, x2, y2, x3, y3, x4, y4):
 def concaveman_ring(points, concavity, length_threshold, out):
     """:func:`_concaveman_ring` into `out` (int64, room for ``2 n + 3``): the ring's length."""
     ring = _concaveman_ring(points, concavity, length_threshold)
-    out[: ring.shape[0]] = ring
+    for i in range(ring.shape[0]):  # not out[:k] = ring: see _rbush._grow_tree
+        out[i] = ring[i]
     return ring.shape[0]
 
 
@@ -270,7 +271,7 @@ def _concaveman_ring(points, concavity, length_threshold):
 
     # the segment R-tree over the outline's edges: edge `node` runs node_p[node] -> its next
     s_box = np.empty((cap, 4))
-    s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_where, s_meta = _new_tree(64, cap)
+    s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_where, s_meta = _new_tree(np.int64(64), cap)
     s_meta[0] = _alloc(s_cnt, s_leaf, s_hgt, s_bb, s_par, s_meta)
     path = np.empty(64, dtype=np.int64)
     lbox = np.empty(4)

@@ -241,7 +241,9 @@ def _seed(
         distance[i] = (points[i, 0] - cx) ** 2 + (points[i, 1] - cy) ** 2
         if distance[i] == 0.0:
             return -1  # a point on the seed's circumcentre (rounding): qhull decides
-    order[:] = np.argsort(distance)
+    sorted_ = np.argsort(distance)
+    for i in range(n):  # not order[:] = ...: see _rbush._grow_tree
+        order[i] = sorted_[i]
 
     size = hull_hash.shape[0]
     hull_next[:] = -1

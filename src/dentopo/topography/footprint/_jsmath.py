@@ -406,7 +406,8 @@ def _fast_convex_hull(p):
         upper[nu] = q
         nu += 1
     hull = np.empty(nl + nu - 2, dtype=np.int64)
-    hull[:nl] = lower[:nl]
+    for j in range(nl):  # not hull[:nl] = ...: see _rbush._grow_tree
+        hull[j] = lower[j]
     k = nl
     for j in range(nu - 2, 0, -1):
         hull[k] = upper[j]

@@ -92,17 +92,22 @@ def _grow_tree(ch, cnt, leaf, hgt, bb, par, meta, need):
         return ch, cnt, leaf, hgt, bb, par
     new = max(2 * cap, meta[1] + need)
     ch2 = np.empty((new, _WIDTH), dtype=np.int64)
-    ch2[:cap] = ch
     cnt2 = np.zeros(new, dtype=np.int64)
-    cnt2[:cap] = cnt
     leaf2 = np.ones(new, dtype=np.bool_)
-    leaf2[:cap] = leaf
     hgt2 = np.ones(new, dtype=np.int64)
-    hgt2[:cap] = hgt
     bb2 = np.empty((new, 4))
-    bb2[:cap] = bb
     par2 = np.full(new, -1, dtype=np.int64)
-    par2[:cap] = par
+    # element by element: an array assignment compiles numba's shape-mismatch message
+    # (more than a second on a fresh install)
+    for i in range(cap):
+        for j in range(_WIDTH):
+            ch2[i, j] = ch[i, j]
+        for j in range(4):
+            bb2[i, j] = bb[i, j]
+        cnt2[i] = cnt[i]
+        leaf2[i] = leaf[i]
+        hgt2[i] = hgt[i]
+        par2[i] = par[i]
     return ch2, cnt2, leaf2, hgt2, bb2, par2
 
 
@@ -395,7 +400,7 @@ def _sort_children(ch, cnt, leaf, bb, ibox, node, axis):
 @njit(cache=True, _nrt=False)
 def _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, axis, lbox, rbox):
     _sort_children(ch, cnt, leaf, bb, ibox, node, axis)
-    _dist_bbox(ch, leaf, bb, ibox, node, 0, m, lbox)
+    _dist_bbox(ch, leaf, bb, ibox, node, np.int64(0), m, lbox)
     _dist_bbox(ch, leaf, bb, ibox, node, big_m - m, big_m, rbox)
     margin = ((lbox[2] - lbox[0]) + (lbox[3] - lbox[1])) + (
         (rbox[2] - rbox[0]) + (rbox[3] - rbox[1])
@@ -422,16 +427,16 @@ def _split(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, path, level, lbox, rb
     big_m = cnt[node]
     m = MIN_ENTRIES
     # chooseSplitAxis: sorted by x, then by y; back to x if x's margins are smaller
-    x_margin = _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, 0, lbox, rbox)
-    y_margin = _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, 1, lbox, rbox)
+    x_margin = _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, np.int64(0), lbox, rbox)
+    y_margin = _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, np.int64(1), lbox, rbox)
     if x_margin < y_margin:
-        _sort_children(ch, cnt, leaf, bb, ibox, node, 0)
+        _sort_children(ch, cnt, leaf, bb, ibox, node, np.int64(0))
     # chooseSplitIndex: least overlap, then least area
     min_overlap = _INF
     min_area = _INF
     index = m
     for i in range(m, big_m - m + 1):
-        _dist_bbox(ch, leaf, bb, ibox, node, 0, i, lbox)
+        _dist_bbox(ch, leaf, bb, ibox, node, np.int64(0), i, lbox)
         _dist_bbox(ch, leaf, bb, ibox, node, i, big_m, rbox)
         overlap = max(0.0, min(lbox[2], rbox[2]) - max(lbox[0], rbox[0])) * max(
             0.0, min(lbox[3], rbox[3]) - max(lbox[1], rbox[1])

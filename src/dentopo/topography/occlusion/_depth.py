@@ -156,126 +156,210 @@ def _sort(
             height[r + 1] = h
 
 
+@njit(cache=True)
+def _lit_directions(
+    vertices,
+    faces,
+    directions,
+    resolution,
+    keep,
+    shift,
+    tiles,
+    centre,
+    diagonal,
+    scale,
+    t,
+    threads,
+    counts,
+):  # pragma: no cover
+    """``_lit_counts``' work on thread `t`: directions ``t, t + threads, ...`` into ``counts[t]``.
+
+    A function of its own, not the body of the ``prange`` loop: numba compiles a parallel
+    loop's body once more for its threads, and this is most of the kernel (seconds saved
+    on a fresh install).
+    """
+    n = vertices.shape[0]
+    m = faces.shape[0]
+    k = directions.shape[0]
+    px = np.empty(n)
+    py = np.empty(n)
+    pz = np.empty(n)
+    col = np.empty(n, dtype=np.int64)
+    row = np.empty(n, dtype=np.int64)
+    covered = np.empty(n, dtype=np.bool_)  # by a face of the vertex's own
+    hidden = np.empty(n, dtype=np.bool_)  # a face at its pixel is too high
+    held = np.empty(n)  # the greatest height at the pixel (vertices left uncovered)
+    near = np.empty(n, dtype=np.bool_)  # a next pixel in +u/+v is drawn (the same)
+    members = np.empty(n, dtype=np.int64)
+    start = np.empty(tiles * tiles + 1, dtype=np.int64)
+    order = np.empty(n, dtype=np.int64)
+    height = np.empty(n)
+    boxes = np.empty((m, 4), dtype=np.int64)
+    inverses = np.empty(m)
+    for j in range(t, k, threads):
+        _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
+        for i in range(n):
+            col[i] = min(max(math.floor(px[i]), 0), resolution - 1)
+            row[i] = min(max(math.floor(py[i]), 0), resolution - 1)
+            covered[i] = False
+            hidden[i] = False
+        # 1. each face at its own corners' pixels
+        for f in range(m):
+            a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+            left, right, bottom, top, inverse = _setup(px, py, resolution, a, b, c)
+            boxes[f, 0], boxes[f, 1], boxes[f, 2], boxes[f, 3] = left, right, bottom, top
+            inverses[f] = inverse
+            if left > right or bottom > top:
+                continue
+            for i in (a, b, c):
+                if col[i] < left or col[i] > right or row[i] < bottom or row[i] > top:
+                    continue
+                depth = _depth_at(px, py, pz, a, b, c, inverse, col[i], row[i])
+                if depth >= 0.0:
+                    covered[i] = True
+                    if pz[i] < depth * keep:
+                        hidden[i] = True
+        # 2. any face too high at the pixel of a vertex covered so (the tiles' lowest
+        # first, so that a face stops at the first vertex above it); every face at the
+        # pixel of a vertex no face of its own covers, and at the next in +u/+v
+        count = 0
+        for i in range(n):
+            if not covered[i] or not hidden[i]:
+                members[count] = i
+                count += 1
+                held[i] = 0.0
+                near[i] = False
+        _sort(members, count, col, row, pz, covered, shift, tiles, start, order, height)
+        for f in range(m):
+            left, right, bottom, top = boxes[f, 0], boxes[f, 1], boxes[f, 2], boxes[f, 3]
+            if left > right or bottom > top:
+                continue
+            a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+            highest = max(pz[a], pz[b], pz[c])
+            for ty in range(max(bottom - 1, 0) >> shift, (top >> shift) + 1):
+                for tx in range(max(left - 1, 0) >> shift, (right >> shift) + 1):
+                    s = ty * tiles + tx
+                    for q in range(start[s], start[s + 1]):
+                        if height[q] >= highest:
+                            break  # the face is below the rest of the tile
+                        i = order[q]
+                        ci, ri = col[i], row[i]
+                        if covered[i]:
+                            # one branch, rarely taken: the pixel in the box, the vertex
+                            # not yet hidden, not a corner of this face
+                            test = (
+                                (ci >= left)
+                                & (ci <= right)
+                                & (ri >= bottom)
+                                & (ri <= top)
+                                & (not hidden[i])
+                                & (i != a)
+                                & (i != b)
+                                & (i != c)
+                            )
+                            if test:
+                                depth = _depth_at(px, py, pz, a, b, c, inverses[f], ci, ri)
+                                if depth >= 0.0 and pz[i] < depth * keep:
+                                    hidden[i] = True
+                            continue
+                        if ci + 1 < left or ci > right or ri + 1 < bottom or ri > top:
+                            continue
+                        if ci >= left and ri >= bottom:
+                            depth = _depth_at(px, py, pz, a, b, c, inverses[f], ci, ri)
+                            if depth > held[i]:
+                                held[i] = depth
+                        if held[i] > 0.0 or near[i]:
+                            continue
+                        c2 = min(ci + 1, resolution - 1)
+                        r2 = min(ri + 1, resolution - 1)
+                        for cc, rr in ((c2, ri), (ci, r2), (c2, r2)):
+                            if cc < left or cc > right or rr < bottom or rr > top:
+                                continue
+                            if _depth_at(px, py, pz, a, b, c, inverses[f], cc, rr) >= 0.0:
+                                near[i] = True
+                                break
+        for i in range(n):
+            if covered[i]:
+                lit = not hidden[i]
+            elif held[i] > 0.0:
+                lit = pz[i] >= held[i] * keep
+            else:  # an empty pixel: lit when the next one in +u, +v or both is drawn
+                lit = near[i]
+            if lit:
+                counts[t, i] += 1
+
+
 @njit(cache=True, parallel=True)
 def _lit_counts(
     vertices, faces, directions, resolution, tolerance, threads, shift, total
 ):  # pragma: no cover
     n = vertices.shape[0]
-    m = faces.shape[0]
-    k = directions.shape[0]
     centre, diagonal, scale = _view(vertices, resolution)
     keep = 1.0 - tolerance
     tiles = ((resolution - 1) >> shift) + 1
     counts = np.zeros((threads, n), dtype=np.int64)
     for t in prange(threads):
-        px = np.empty(n)
-        py = np.empty(n)
-        pz = np.empty(n)
-        col = np.empty(n, dtype=np.int64)
-        row = np.empty(n, dtype=np.int64)
-        covered = np.empty(n, dtype=np.bool_)  # by a face of the vertex's own
-        hidden = np.empty(n, dtype=np.bool_)  # a face at its pixel is too high
-        held = np.empty(n)  # the greatest height at the pixel (vertices left uncovered)
-        near = np.empty(n, dtype=np.bool_)  # a next pixel in +u/+v is drawn (the same)
-        members = np.empty(n, dtype=np.int64)
-        start = np.empty(tiles * tiles + 1, dtype=np.int64)
-        order = np.empty(n, dtype=np.int64)
-        height = np.empty(n)
-        boxes = np.empty((m, 4), dtype=np.int64)
-        inverses = np.empty(m)
-        for j in range(t, k, threads):
-            _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
-            for i in range(n):
-                col[i] = min(max(math.floor(px[i]), 0), resolution - 1)
-                row[i] = min(max(math.floor(py[i]), 0), resolution - 1)
-                covered[i] = False
-                hidden[i] = False
-            # 1. each face at its own corners' pixels
-            for f in range(m):
-                a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-                left, right, bottom, top, inverse = _setup(px, py, resolution, a, b, c)
-                boxes[f, 0], boxes[f, 1], boxes[f, 2], boxes[f, 3] = left, right, bottom, top
-                inverses[f] = inverse
-                if left > right or bottom > top:
-                    continue
-                for i in (a, b, c):
-                    if col[i] < left or col[i] > right or row[i] < bottom or row[i] > top:
-                        continue
-                    depth = _depth_at(px, py, pz, a, b, c, inverse, col[i], row[i])
-                    if depth >= 0.0:
-                        covered[i] = True
-                        if pz[i] < depth * keep:
-                            hidden[i] = True
-            # 2. any face too high at the pixel of a vertex covered so (the tiles' lowest
-            # first, so that a face stops at the first vertex above it); every face at the
-            # pixel of a vertex no face of its own covers, and at the next in +u/+v
-            count = 0
-            for i in range(n):
-                if not covered[i] or not hidden[i]:
-                    members[count] = i
-                    count += 1
-                    held[i] = 0.0
-                    near[i] = False
-            _sort(members, count, col, row, pz, covered, shift, tiles, start, order, height)
-            for f in range(m):
-                left, right, bottom, top = boxes[f, 0], boxes[f, 1], boxes[f, 2], boxes[f, 3]
-                if left > right or bottom > top:
-                    continue
-                a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-                highest = max(pz[a], pz[b], pz[c])
-                for ty in range(max(bottom - 1, 0) >> shift, (top >> shift) + 1):
-                    for tx in range(max(left - 1, 0) >> shift, (right >> shift) + 1):
-                        s = ty * tiles + tx
-                        for q in range(start[s], start[s + 1]):
-                            if height[q] >= highest:
-                                break  # the face is below the rest of the tile
-                            i = order[q]
-                            ci, ri = col[i], row[i]
-                            if covered[i]:
-                                # one branch, rarely taken: the pixel in the box, the vertex
-                                # not yet hidden, not a corner of this face
-                                test = (
-                                    (ci >= left)
-                                    & (ci <= right)
-                                    & (ri >= bottom)
-                                    & (ri <= top)
-                                    & (not hidden[i])
-                                    & (i != a)
-                                    & (i != b)
-                                    & (i != c)
-                                )
-                                if test:
-                                    depth = _depth_at(px, py, pz, a, b, c, inverses[f], ci, ri)
-                                    if depth >= 0.0 and pz[i] < depth * keep:
-                                        hidden[i] = True
-                                continue
-                            if ci + 1 < left or ci > right or ri + 1 < bottom or ri > top:
-                                continue
-                            if ci >= left and ri >= bottom:
-                                depth = _depth_at(px, py, pz, a, b, c, inverses[f], ci, ri)
-                                if depth > held[i]:
-                                    held[i] = depth
-                            if held[i] > 0.0 or near[i]:
-                                continue
-                            c2 = min(ci + 1, resolution - 1)
-                            r2 = min(ri + 1, resolution - 1)
-                            for cc, rr in ((c2, ri), (ci, r2), (c2, r2)):
-                                if cc < left or cc > right or rr < bottom or rr > top:
-                                    continue
-                                if _depth_at(px, py, pz, a, b, c, inverses[f], cc, rr) >= 0.0:
-                                    near[i] = True
-                                    break
-            for i in range(n):
-                if covered[i]:
-                    lit = not hidden[i]
-                elif held[i] > 0.0:
-                    lit = pz[i] >= held[i] * keep
-                else:  # an empty pixel: lit when the next one in +u, +v or both is drawn
-                    lit = near[i]
-                if lit:
-                    counts[t, i] += 1
+        _lit_directions(
+            vertices,
+            faces,
+            directions,
+            resolution,
+            keep,
+            shift,
+            tiles,
+            centre,
+            diagonal,
+            scale,
+            t,
+            threads,
+            counts,
+        )
     for t in range(threads):  # into the caller's array: a kernel returns no array
-        total[:] += counts[t]
+        for i in range(n):  # element by element: see _sort
+            total[i] += counts[t, i]
+
+
+@njit(cache=True)
+def _lit_directions_image(
+    vertices, faces, directions, resolution, tolerance, centre, diagonal, scale, t, threads, counts
+):  # pragma: no cover
+    """``_lit_counts_image``' work on thread `t` (see ``_lit_directions``)."""
+    n = vertices.shape[0]
+    k = directions.shape[0]
+    buffer = np.zeros((resolution, resolution))  # 0: nothing drawn (the far plane)
+    px = np.empty(n)
+    py = np.empty(n)
+    pz = np.empty(n)
+    for j in range(t, k, threads):
+        _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
+        x0, x1, y0, y1 = resolution, -1, resolution, -1
+        for f in range(faces.shape[0]):
+            a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+            left, right, bottom, top, inverse = _setup(px, py, resolution, a, b, c)
+            if left > right or bottom > top:
+                continue
+            x0, x1 = min(x0, left), max(x1, right)
+            y0, y1 = min(y0, bottom), max(y1, top)
+            for row in range(bottom, top + 1):
+                for col in range(left, right + 1):
+                    depth = _depth_at(px, py, pz, a, b, c, inverse, col, row)
+                    if depth > buffer[row, col]:
+                        buffer[row, col] = depth
+        for i in range(n):
+            col = min(max(math.floor(px[i]), 0), resolution - 1)
+            row = min(max(math.floor(py[i]), 0), resolution - 1)
+            held = buffer[row, col]
+            if held > 0.0:
+                if pz[i] >= held * (1.0 - tolerance):
+                    counts[t, i] += 1
+            else:  # an empty pixel: lit when the next one in +u, +v or both is drawn
+                c2 = min(col + 1, resolution - 1)
+                r2 = min(row + 1, resolution - 1)
+                if buffer[row, c2] > 0.0 or buffer[r2, col] > 0.0 or buffer[r2, c2] > 0.0:
+                    counts[t, i] += 1
+        for row in range(y0, y1 + 1):  # clear what was drawn
+            for col in range(x0, x1 + 1):
+                buffer[row, col] = 0.0
 
 
 @njit(cache=True, parallel=True)
@@ -283,46 +367,25 @@ def _lit_counts_image(
     vertices, faces, directions, resolution, tolerance, threads, total
 ):  # pragma: no cover
     n = vertices.shape[0]
-    k = directions.shape[0]
     centre, diagonal, scale = _view(vertices, resolution)
     counts = np.zeros((threads, n), dtype=np.int64)
     for t in prange(threads):
-        buffer = np.zeros((resolution, resolution))  # 0: nothing drawn (the far plane)
-        px = np.empty(n)
-        py = np.empty(n)
-        pz = np.empty(n)
-        for j in range(t, k, threads):
-            _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
-            x0, x1, y0, y1 = resolution, -1, resolution, -1
-            for f in range(faces.shape[0]):
-                a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-                left, right, bottom, top, inverse = _setup(px, py, resolution, a, b, c)
-                if left > right or bottom > top:
-                    continue
-                x0, x1 = min(x0, left), max(x1, right)
-                y0, y1 = min(y0, bottom), max(y1, top)
-                for row in range(bottom, top + 1):
-                    for col in range(left, right + 1):
-                        depth = _depth_at(px, py, pz, a, b, c, inverse, col, row)
-                        if depth > buffer[row, col]:
-                            buffer[row, col] = depth
-            for i in range(n):
-                col = min(max(math.floor(px[i]), 0), resolution - 1)
-                row = min(max(math.floor(py[i]), 0), resolution - 1)
-                held = buffer[row, col]
-                if held > 0.0:
-                    if pz[i] >= held * (1.0 - tolerance):
-                        counts[t, i] += 1
-                else:  # an empty pixel: lit when the next one in +u, +v or both is drawn
-                    c2 = min(col + 1, resolution - 1)
-                    r2 = min(row + 1, resolution - 1)
-                    if buffer[row, c2] > 0.0 or buffer[r2, col] > 0.0 or buffer[r2, c2] > 0.0:
-                        counts[t, i] += 1
-            for row in range(y0, y1 + 1):  # clear what was drawn
-                for col in range(x0, x1 + 1):
-                    buffer[row, col] = 0.0
+        _lit_directions_image(
+            vertices,
+            faces,
+            directions,
+            resolution,
+            tolerance,
+            centre,
+            diagonal,
+            scale,
+            t,
+            threads,
+            counts,
+        )
     for t in range(threads):  # into the caller's array: a kernel returns no array
-        total[:] += counts[t]
+        for i in range(n):  # element by element: see _sort
+            total[i] += counts[t, i]
 
 
 def _shift(n: int, resolution: int) -> int:
