@@ -3,14 +3,19 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 import trimesh
 
-#: The project's shared data lives beside the checkout (../shared), never inside it.
-SHARED = Path(__file__).resolve().parents[2] / "shared"
+#: The environment variable that says where the shared data is, if not beside the checkout.
+SHARED_ENV = "DENTOPO_SHARED"
+
+#: The project's shared data lives beside the checkout (../shared), never inside it, or
+#: where DENTOPO_SHARED says.
+SHARED = Path(os.environ.get(SHARED_ENV) or Path(__file__).resolve().parents[2] / "shared")
 MESHES = SHARED / "data" / "meshes"
 REFERENCE = SHARED / "data" / "reference"
 ROBUSTNESS_SET = ("normal", "low", "high", "noise1", "noise2", "smooth")
@@ -20,7 +25,10 @@ def shared_mesh(name: str) -> Path:
     """Path of a shared mesh; skips the test with the reason when it is absent."""
     path = MESHES / f"{name}.ply"
     if not path.exists():
-        pytest.skip(f"shared data not found at {path} (expected beside the checkout)")
+        pytest.skip(
+            f"shared data not found at {path} (expected beside the checkout, or where "
+            f"{SHARED_ENV} says)"
+        )
     return path
 
 

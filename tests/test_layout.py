@@ -26,7 +26,7 @@ ALLOWED = {
     "prepare": {"mesh", "topography"},
     "figures": {"mesh", "sign", "ariadne", "topography", "prepare"},
     "formats": {"mesh", "ariadne", "topography", "prepare", "figures"},
-    "batch": {"mesh", "sign", "ariadne", "topography", "prepare", "formats"},
+    "batch": {"mesh", "sign", "ariadne", "topography", "prepare", "formats", "samples"},
     "study": {"mesh", "sign", "ariadne", "topography", "prepare", "formats", "figures", "batch"},
     "report": {"mesh", "sign", "ariadne", "topography", "prepare", "figures", "formats", "batch"},
     "app": {

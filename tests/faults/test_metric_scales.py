@@ -20,12 +20,13 @@ import warnings
 import numpy as np
 import pytest
 
+from conftest import MESHES
 from dentopo.batch._measure import TopographyOptions, measure_mesh
 from dentopo.formats import METRIC_KEYS
 from dentopo.mesh import load_mesh
 from dentopo.samples import tooth
 
-SHARED = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data", "meshes")
+SHARED = str(MESHES)
 NORMAL = os.path.join(SHARED, "normal.ply")
 
 SCALES = (1e-6, 1e-3, 1.0, 25.4, 1e3, 1e6)

@@ -8,11 +8,13 @@ batch: ``_settings`` holds what a batch computes with (checked before any file),
 ``_resume`` which rows of a previous table are kept.  ``_pool`` is the local
 pool, which survives a worker's death;
 ``_interrupts`` makes Ctrl-C and SIGTERM stop a batch, never inside a critical section;
+``_warmup`` compiles a batch's kernels before its meshes (once per machine);
 ``_prepare`` prepares raw scans (:mod:`dentopo.prepare`) in a batch, a mesh and a record each.
 
 May import: :mod:`dentopo.ariadne`, :mod:`dentopo.sign`, :mod:`dentopo.topography`,
 :mod:`dentopo.prepare` (a protocol run on each mesh before it is measured),
-:mod:`dentopo.formats`.  Nothing from figures, study or cli.
+:mod:`dentopo.formats`, :mod:`dentopo.samples` (the crown a warm-up computes).  Nothing from
+figures, study or cli.
 """
 
 from ._inputs import (
@@ -55,6 +57,15 @@ from ._task import (
     planned_per_vertex_files,
     prepared_mesh,
 )
+from ._warmup import (
+    WarmUp,
+    estimated_seconds,
+    kernel_cache,
+    metric_groups,
+    missing_metrics,
+    warm_up,
+    warm_up_wanted,
+)
 
 __all__ = [
     "FORMAT_PACKAGES",
@@ -68,19 +79,24 @@ __all__ = [
     "PrepareTask",
     "Settings",
     "Task",
+    "WarmUp",
     "available_cores",
     "check_extras",
     "compute_batch",
     "compute_task",
     "error_reason",
     "error_record",
+    "estimated_seconds",
     "find_mesh_files",
     "guard_interrupts",
     "is_done",
     "is_own_output",
     "is_own_output_folder",
+    "kernel_cache",
     "make_settings",
     "merge_records",
+    "metric_groups",
+    "missing_metrics",
     "output_names",
     "plan_batch",
     "plan_preparation",
@@ -96,4 +112,6 @@ __all__ = [
     "run_preparation",
     "run_tasks",
     "to_dataframe",
+    "warm_up",
+    "warm_up_wanted",
 ]

@@ -42,6 +42,7 @@ from ._result import BatchResult
 from ._resume import merge_records, relabel_resumed, resumable_files
 from ._settings import Settings, check_extras, make_settings
 from ._task import Outcome, PhaseCallback, Task, compute_task, error_reason, error_record
+from ._warmup import warm_up, warm_up_wanted
 
 #: ``progress(done, total, record)`` is called after each file.
 ProgressCallback = Callable[[int, int, dict], None]
@@ -123,6 +124,8 @@ def _run_local(
         yield from _run_here(tasks, settings, on_phase)
         return
     workers = min(jobs, len(tasks))
+    if warm_up_wanted():
+        warm_up(settings, jobs=workers)  # compiled once, here, not in every worker
     if settings.threads is None:  # share the cores among the workers
         settings = replace(settings, threads=max(1, available_cores() // workers))
     yield from run_pool(tasks, compute_task, (settings,), workers=workers, failed=_failed)

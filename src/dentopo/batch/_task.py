@@ -60,6 +60,7 @@ class Outcome:
     record: dict
     warnings: tuple[str, ...] = ()
     result: object = None
+    compiled: float = 0.0  # seconds spent compiling kernels for it (not in its record)
 
 
 def error_reason(exc: BaseException) -> str:
@@ -182,7 +183,13 @@ def compute_task(task: Task, settings: Settings, on_phase: PhaseCallback | None 
         numba.set_num_threads(previous_threads)
     messages = tuple(dict.fromkeys(str(w.message) for w in caught))
     record["warnings"] = "; ".join(messages) or None
-    return Outcome(task.index, record, messages, measured if task.keep_result else None)
+    return Outcome(
+        task.index,
+        record,
+        messages,
+        measured if task.keep_result else None,
+        compiled=round(compile_seconds() - compiled, 3),
+    )
 
 
 def prepared_mesh(mesh, protocol: Protocol):

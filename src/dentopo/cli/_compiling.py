@@ -1,12 +1,13 @@
-"""The line that says numba is compiling dentopo's kernels (a fresh install's first run).
+"""What the command says while numba compiles dentopo's kernels (a fresh install's first run).
 
 numba compiles each kernel on its first call and keeps it in its cache, so a
 fresh install's first run spends most of its time compiling, and later runs
-none.  While the command runs, :class:`CompileNotice` listens to numba's
-compile events (raised only for a real compilation, never for a kernel loaded
-from the cache) and, at the first one, prints one line saying so, with an
-estimate of how long it takes for the metrics asked for.  Kernels compiled in
-worker processes (``--jobs`` above 1) are not seen here.
+none.  The command compiles before its first mesh (:func:`dentopo.batch.warm_up`,
+on the sample crown, in as many processes as ``--jobs`` allows) and says so in
+two lines: :func:`notice_text` before, with an estimate, and :func:`done_text`
+after.  A mesh that takes a path the sample did not compiles the rest itself:
+:class:`CompileNotice` says so as it starts (in this process), and
+:func:`more_text` after that mesh (in this process or a worker).
 """
 
 from __future__ import annotations
@@ -14,31 +15,41 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Iterable
 
-from ..topography import DOOLKIT_METRICS, MOLAR_METRICS
+from ..batch import WarmUp, estimated_seconds
 
-#: Seconds of compilation on a fresh install (CPU seconds of numba's compile events, one
-#: core of a shared two-core machine; the line says "about"): ariaDNE with its sign (the
-#: default, normal.ply or --samples: 27-31 s), molaR's metrics and doolkit's (--metrics
-#: all: 88 s in all, concaveman's footprint alone about 25 s).  Each part counts once,
-#: when one of its metrics is asked for.
-ESTIMATED_SECONDS = {"ariadne": 30, "molar": 20, "doolkit": 40}
+#: A mesh that spent less than this compiling is not mentioned (loading a kernel is
+#: not compiling, but a tiny kernel compiles in a fraction of a second).
+MENTION_SECONDS = 0.5
 
 
-def estimated_seconds(metrics: Iterable[str]) -> int:
-    """Seconds a fresh install spends compiling the kernels of `metrics` (an estimate)."""
-    metrics = set(metrics)
-    parts = {
-        "ariadne": "ariadne" in metrics,
-        "molar": bool(metrics & set(MOLAR_METRICS)),
-        "doolkit": bool(metrics & set(DOOLKIT_METRICS)),
-    }
-    return sum(ESTIMATED_SECONDS[part] for part, used in parts.items() if used)
+def notice_text(metrics: Iterable[str], processes: int = 1) -> str:
+    """``compiling dentopo's kernels for this machine, once (...): about N s``."""
+    seconds = estimated_seconds(tuple(metrics), processes)
+    rounded = max(5, 5 * round(seconds / 5))
+    where = f" in {processes} processes" if processes > 1 else ""
+    return (
+        f"compiling dentopo's kernels for this machine{where}, once (later runs load them): "
+        f"about {rounded} s"
+    )
 
 
-def notice_text(metrics: Iterable[str]) -> str:
-    """``compiling dentopo's kernels for this machine, once: about N s``."""
-    seconds = max(10, 10 * int(estimated_seconds(metrics) / 10 + 0.5))
-    return f"compiling dentopo's kernels for this machine, once: about {seconds} s"
+def done_text(warm: WarmUp) -> str:
+    """``compiled in N s (...)``, or that numba's cache had them all."""
+    if not warm.compiled:
+        return f"every kernel was already in numba's cache ({warm.cache})"
+    return f"compiled in {warm.seconds:.0f} s, kept in numba's cache ({warm.cache})"
+
+
+#: What :class:`CompileNotice` says after the compilation before the first mesh.
+MORE = "compiling more of dentopo's kernels (a path the sample crown did not take)"
+
+
+def more_text(file: str, seconds: float) -> str:
+    """``FILE: compiled kernels for N s (...)`` after a mesh that compiled some."""
+    return (
+        f"{file}: compiled kernels for {seconds:.1f} s (a path the sample crown did not take; "
+        "kept for later runs)"
+    )
 
 
 class CompileNotice:

@@ -28,17 +28,22 @@ from .._optional import MissingExtraError
 from ..batch import (
     Interrupted,
     Outcome,
+    Settings,
     available_cores,
     find_mesh_files,
     guard_interrupts,
     make_settings,
     merge_records,
+    metric_groups,
+    missing_metrics,
     plan_batch,
     relabel_resumed,
     replaced_message,
     replaced_per_vertex_files,
     resumable_files,
     run_tasks,
+    warm_up,
+    warm_up_wanted,
 )
 from ..formats import (
     DEFAULT_PER_VERTEX_FORMATS,
@@ -60,13 +65,49 @@ from ._arguments import (
     split_pairs,
 )
 from ._checks import missing_extra, outputs_problem, picture_problem, usage_problem
-from ._compiling import CompileNotice, notice_text
+from ._compiling import MENTION_SECONDS, MORE, CompileNotice, done_text, more_text, notice_text
 from ._hints import CommandLineHints
 from ._output import TableOutput
 from ._pictures import NO_DISPLAY, draw_pictures, load_renderer
 from ._progress import Progress
 from ._progress import say as _say
 from ._table import print_layout, print_table, table_columns
+
+
+def settings_from_args(args) -> Settings:
+    """The batch's settings from the main command's options (raises ValueError or TypeError)."""
+    return make_settings(
+        bandwidth=args.bandwidth,
+        cutoff=args.cutoff,
+        distance_type=args.distance_type,
+        sign_method=args.sign_method,
+        method=args.method,
+        geometry=args.geometry,
+        metrics=metrics_asked(args),
+        alpha=args.alpha,
+        find_alpha=args.find_alpha,
+        opcr_steps=args.opcr_steps,
+        opcr_step=args.opcr_step,
+        min_faces=args.min_faces,
+        min_area=args.min_area,
+        dne_outliers=args.dne_outliers,
+        dne_boundary=args.dne_boundary,
+        dne_kappa=args.dne_kappa,
+        arc_boundary=args.arc_boundary,
+        arc_range=tuple(args.arc_range),
+        orient=args.orient,
+        duplicates=args.duplicates,
+        prepare=args.prepare,
+        unit=args.unit,
+        mt_condition_check=args.mt_condition == "on",
+        mt_outliers=args.mt_outliers,
+        mt_percentile=args.mt_percentile,
+        mt_smooth=args.mt_smooth,
+        mt_min_patch=args.mt_min_patch,
+        pcv_rays=args.pcv_rays,
+        pcv_hemisphere=not args.pcv_sphere,
+        pcv_method=args.pcv_method,
+    )
 
 
 def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
@@ -82,38 +123,7 @@ def compute_main(argv: list[str], subcommands: tuple[str, ...] = ()) -> int:
         _say(problem)
         return 2
     try:
-        settings = make_settings(
-            bandwidth=args.bandwidth,
-            cutoff=args.cutoff,
-            distance_type=args.distance_type,
-            sign_method=args.sign_method,
-            method=args.method,
-            geometry=args.geometry,
-            metrics=metrics_asked(args),
-            alpha=args.alpha,
-            find_alpha=args.find_alpha,
-            opcr_steps=args.opcr_steps,
-            opcr_step=args.opcr_step,
-            min_faces=args.min_faces,
-            min_area=args.min_area,
-            dne_outliers=args.dne_outliers,
-            dne_boundary=args.dne_boundary,
-            dne_kappa=args.dne_kappa,
-            arc_boundary=args.arc_boundary,
-            arc_range=tuple(args.arc_range),
-            orient=args.orient,
-            duplicates=args.duplicates,
-            prepare=args.prepare,
-            unit=args.unit,
-            mt_condition_check=args.mt_condition == "on",
-            mt_outliers=args.mt_outliers,
-            mt_percentile=args.mt_percentile,
-            mt_smooth=args.mt_smooth,
-            mt_min_patch=args.mt_min_patch,
-            pcv_rays=args.pcv_rays,
-            pcv_hemisphere=not args.pcv_sphere,
-            pcv_method=args.pcv_method,
-        )
+        settings = settings_from_args(args)
     except (TypeError, ValueError) as exc:
         _say(str(exc))
         return 2
@@ -211,6 +221,32 @@ def _interruption(exc: BaseException) -> str:
     return "interrupted" if name == "SIGINT" else f"interrupted ({name})"
 
 
+def _compile_first(settings: Settings, jobs: int, progress: Progress, *, quiet: bool) -> None:
+    """Compile the kernels of `settings` before the first mesh (on `jobs` cores), saying so."""
+    missing = missing_metrics(settings)
+    if not missing:
+        return
+    processes = len(metric_groups(missing, jobs))
+    # in this process, the line comes with the first kernel compiled (none: no line); in
+    # several, before they start (a missing stamp: a new install, or new sources)
+    notice = CompileNotice(notice_text(missing, processes), progress.message)
+    if not quiet and processes > 1:
+        notice.say(notice.text)
+    elif not quiet:
+        notice.start()
+    try:
+        warm = warm_up(settings, jobs=jobs)
+    except KeyboardInterrupt:
+        raise
+    except Exception as exc:  # the meshes compile what they need, as they would have
+        progress.message(f"warning: compiling before the first mesh failed ({exc})")
+        return
+    finally:
+        notice.stop()
+    if not quiet and (warm.compiled or processes > 1):
+        progress.message(done_text(warm))
+
+
 def _run(args, files, settings, per_vertex, scheduler, render, output, guard) -> int:
     """Compute the batch and write its table; the exit code."""
     rendering = render is not None
@@ -288,7 +324,9 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
     outcomes: dict[int, Outcome] = {}
     interrupted: BaseException | None = None
     unrecorded: OSError | None = None
-    notice = CompileNotice(notice_text(settings.metrics), progress.message)
+    if scheduler is None and tasks and warm_up_wanted():  # a cluster's workers bring their own
+        _compile_first(settings, jobs, progress, quiet=args.quiet)
+    notice = CompileNotice(MORE, progress.message)
     if not args.quiet and jobs == 1 and scheduler is None:  # compiled here, not in workers
         notice.start()
     running = run_tasks(tasks, settings, jobs=jobs, scheduler=scheduler, on_phase=progress.phase)
@@ -303,6 +341,8 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
             except OSError as exc:  # a full disk: the rows could not be kept, so stop
                 unrecorded = exc
                 break
+            if outcome.compiled >= MENTION_SECONDS and not args.quiet:
+                progress.message(more_text(outcome.record["file"], outcome.compiled))
             for message in outcome.warnings:
                 progress.message(f"{outcome.record['file']}: warning: {message}")
             progress.update(outcome.record)

@@ -37,6 +37,7 @@ SUBCOMMANDS: dict[str, str | Callable[[list[str]], int]] = {
     "report": "dentopo.cli._report:report_main",
     "robustness": "dentopo.cli._study:robustness_main",
     "sweep": "dentopo.cli._study:sweep_main",
+    "warmup": "dentopo.cli._warmup:warmup_main",
 }
 
 
