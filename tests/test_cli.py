@@ -342,7 +342,7 @@ def test_the_rows_of_a_killed_run_are_added_back_by_the_next_run(tmp_path, capsy
     capsys.readouterr()
     assert main([str(a), str(b), "-o", str(out), "--resume"]) == 0
     err = capsys.readouterr().err
-    assert "added 1 rows of an earlier run" in err
+    assert "added 1 row of an earlier run" in err
     assert "resuming: 2 of 2 files already done" in err
     assert [r["file"] for r in read_table(out)] == [str(a), str(b)]
     assert read_table(out)[1] == row_b

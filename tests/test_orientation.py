@@ -58,7 +58,7 @@ def test_a_sphere_is_undetermined_and_never_turned():
     sphere = trimesh.creation.icosphere(subdivisions=3)
     found = find_orientation(sphere.vertices, sphere.faces)
     assert found.points == "undetermined" and "the surface is closed" in found.warning()
-    assert str(found) == "undetermined; closed, as it lies"
+    assert str(found) == "direction undetermined; closed, as it lies"
     vertices, done = orient_vertices(sphere.vertices, sphere.faces, "auto")
     assert not done.turned and np.array_equal(vertices, sphere.vertices)
 
@@ -71,7 +71,7 @@ def test_a_closed_crown_pointing_down_is_warned_about_and_not_turned():
     down = (closed.vertices @ TURN.T, closed.faces)
     with pytest.warns(UserWarning, match="the surface is closed.*most of its area faces -z"):
         auto = slope(down)
-    assert not auto.orientation.turned and str(auto.orientation) == "-z; closed, as it lies"
+    assert not auto.orientation.turned and str(auto.orientation) == "points -z; closed, as it lies"
     as_is = slope(down, orient="as-is")  # as it lies is what was asked for: nothing to say
     assert np.array_equal(auto.face_slope, as_is.face_slope)  # measured as it lies
     # classic DNE does not assume +z: no word about it there
@@ -85,7 +85,7 @@ def test_a_closed_crown_pointing_down_is_warned_about_and_not_turned():
 def test_auto_is_the_default_and_as_is_is_molars_way():
     up = dome()
     down = trimesh.Trimesh(up.vertices @ TURN.T, up.faces, process=False)
-    assert str(slope(down).orientation) == "-z, turned to +z"
+    assert str(slope(down).orientation) == "points -z, turned to +z"
     assert slope(down).slope == slope(down, orient="auto").slope
     with pytest.warns(UserWarning, match="points to -z"):
         assert slope(down, orient="as-is").slope > 90
@@ -97,9 +97,9 @@ def test_auto_turns_a_crown_pointing_down_and_equals_turning_it_by_hand():
     before = down.vertices.copy()
     with pytest.warns(UserWarning, match="points to -z"):
         as_is = slope(down, orient="as-is")
-    assert str(as_is.orientation) == "-z"
+    assert str(as_is.orientation) == "points -z"
     turned = slope(down, orient="auto")
-    assert str(turned.orientation) == "-z, turned to +z"
+    assert str(turned.orientation) == "points -z, turned to +z"
     assert np.array_equal(turned.face_slope, slope(up).face_slope)
     assert np.array_equal(as_is.face_slope, 180 - turned.face_slope)
     assert opc(down, orient="auto").opc == opc(up).opc
@@ -113,7 +113,7 @@ def test_auto_turns_a_crown_pointing_down_and_equals_turning_it_by_hand():
 
 def test_a_crown_pointing_up_is_measured_as_it_is_and_not_warned_about(recwarn):
     up = dome()
-    assert str(slope(up, orient="auto").orientation) == "+z"
+    assert str(slope(up, orient="auto").orientation) == "points +z"
     assert slope(up, orient="auto").slope == slope(up).slope
     assert not [w for w in recwarn if "points to" in str(w.message)]
 
@@ -127,7 +127,7 @@ def test_bad_orient_is_refused():
 def test_the_papers_crowns_point_down(name):
     path = shared_mesh(name)
     result = slope(path, orient="auto")
-    assert str(result.orientation) == "-z, turned to +z"
+    assert str(result.orientation) == "points -z, turned to +z"
     assert result.slope < 90  # molaR's 106 degrees, measured the right way up
 
 
@@ -157,9 +157,9 @@ def test_faces_wound_inward_are_warned_about_and_rewound_with_auto():
     assert (found.points, found.winding) == ("+z", "inward")
     as_is, caught = _caught(slope, inward, orient="as-is")
     assert any("every face is wound inward" in m and "orient='auto'" in m for m in caught)
-    assert str(as_is.orientation) == "+z; wound inward"
+    assert str(as_is.orientation) == "points +z; wound inward"
     fixed, caught = _caught(slope, inward, orient="auto")
-    assert str(fixed.orientation) == "+z; wound inward, rewound"
+    assert str(fixed.orientation) == "points +z; wound inward, rewound"
     assert any("rewound outward" in m for m in caught)
     assert np.array_equal(fixed.face_slope, slope(up).face_slope)
     assert np.array_equal(as_is.face_slope, 180 - fixed.face_slope)
@@ -191,7 +191,7 @@ def test_a_crown_pointing_down_and_wound_inward_is_turned_and_rewound():
     up = dome()
     both = trimesh.Trimesh(up.vertices @ TURN.T, up.faces[:, ::-1], process=False)
     result, _ = _caught(slope, both, orient="auto")
-    assert str(result.orientation) == "-z, turned to +z; wound inward, rewound"
+    assert str(result.orientation) == "points -z, turned to +z; wound inward, rewound"
     assert np.array_equal(result.face_slope, slope(up).face_slope)
     assert classic_dne(up).convex_dne == _caught(classic_dne, both, orient="auto")[0].convex_dne
 
@@ -204,7 +204,7 @@ def test_some_faces_wound_inward_are_found_and_rewound():
     found = find_orientation(up.vertices, faces)
     assert (found.winding, found.inward_faces) == ("mixed", len(flipped))
     result, _ = _caught(slope, (up.vertices, faces), orient="auto")
-    assert str(result.orientation) == f"+z; {len(flipped)} faces wound inward, rewound"
+    assert str(result.orientation) == f"points +z; {len(flipped)} faces wound inward, rewound"
     assert np.array_equal(result.face_slope, slope(up).face_slope)
 
 
@@ -240,7 +240,7 @@ def test_a_plane_in_any_pose_is_undetermined_warned_about_and_never_turned(pose)
     assert (found.points, found.rule, found.winding) == ("undetermined", "flat", "undetermined")
     as_is, _ = _caught(slope, (vertices, faces))
     auto, caught = _caught(slope, (vertices, faces), orient="auto")
-    assert str(auto.orientation) == "undetermined"
+    assert str(auto.orientation) == "direction undetermined"
     assert any("the surface is flat" in m for m in caught)
     assert not auto.orientation.turned and not auto.orientation.rewound
     assert np.array_equal(auto.face_slope, as_is.face_slope)  # measured as it lies
@@ -255,9 +255,13 @@ def test_the_papers_crowns_point_down_from_their_open_base_and_are_wound_outward
     mesh = load_mesh(shared_mesh(name))
     found = find_orientation(mesh.vertices, mesh.faces)
     assert (found.points, found.rule, found.winding) == ("-z", "open base", "outward")
-    assert str(found) == "-z"
+    assert str(found) == "points -z"
     inward = find_orientation(mesh.vertices, mesh.faces[:, ::-1])
-    assert (inward.points, inward.winding, str(inward)) == ("-z", "inward", "-z; wound inward")
+    assert (inward.points, inward.winding, str(inward)) == (
+        "-z",
+        "inward",
+        "points -z; wound inward",
+    )
 
 
 def test_the_batch_orientation_column_says_the_faces_were_rewound():
@@ -269,7 +273,7 @@ def test_the_batch_orientation_column_says_the_faces_were_rewound():
     auto = TopographyOptions(orient="auto")
     right = _caught(measure_mesh, mesh, ("classic", "slope", "opc"), options=auto)[0]
     fixed, caught = _caught(measure_mesh, inward, ("classic", "slope", "opc"), options=auto)
-    assert fixed.record["orientation"] == "-z, turned to +z; wound inward, rewound"
+    assert fixed.record["orientation"] == "points -z, turned to +z; wound inward, rewound"
     assert {k: v for k, v in fixed.record.items() if k != "orientation"} == {
         k: v for k, v in right.record.items() if k != "orientation"
     }

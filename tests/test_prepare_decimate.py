@@ -211,7 +211,10 @@ def test_a_target_at_or_above_the_count_leaves_the_mesh_as_it_is(hemisphere):
         np.testing.assert_array_equal(out.vertices, v)
         np.testing.assert_array_equal(out.faces, f)
         assert out.details["faces_reached"] == len(f)
-        assert "left as it is" in out.details["note"]
+        assert (
+            out.details["note"] == f"{len(f)} faces, no more than the {target} asked: not decimated"
+        )
+        assert out.warnings == (out.details["note"],)  # said, not only recorded
         assert out.vertices is not v and out.faces is not f
 
 

@@ -100,7 +100,7 @@ def test_molar_columns_in_molar_order(crowns, tmp_path, capsys):
     records = read_table(out)  # molaR's layout reads back into records
     assert [r["status"] for r in records] == ["ok"] * 3
     assert records[0]["opc"] == sum(records[0][f"opc_bin{k}"] for k in range(1, 9))
-    assert records[2]["orientation"] == "-z, turned to +z"  # by default
+    assert records[2]["orientation"] == "points -z, turned to +z"  # by default
 
 
 def test_molar_columns_default_to_molar_batch_metrics(crowns, tmp_path):
@@ -168,13 +168,13 @@ def test_a_crown_pointing_down_is_warned_about_and_turned_when_asked(crowns, tmp
     # the hint names the command's option, not the library's keyword argument
     assert "points to -z" in err and "--orient auto" in err and "orient='auto'" not in err
     (as_is,) = read_table(out)
-    assert as_is["orientation"] == "-z" and as_is["orient"] == "as-is"
+    assert as_is["orientation"] == "points -z" and as_is["orient"] == "as-is"
     assert "--orient auto" in as_is["warnings"]  # the command's table, the command's words
     assert as_is["slope"] > 90  # meaningless, as molaR's on the paper's crowns
 
     assert main([down, "--metrics", "slope", "-o", str(out), "-q"]) == 0  # auto: the default
     (turned,) = read_table(out)
-    assert turned["orientation"] == "-z, turned to +z" and turned["orient"] == "auto"
+    assert turned["orientation"] == "points -z, turned to +z" and turned["orient"] == "auto"
     up = read_table_for(crowns / "a_up.ply", tmp_path)
     assert turned["slope"] == pytest.approx(up["slope"], rel=1e-12)
 

@@ -69,7 +69,7 @@ from ._compiling import MENTION_SECONDS, MORE, CompileNotice, done_text, more_te
 from ._hints import CommandLineHints
 from ._output import TableOutput
 from ._pictures import NO_DISPLAY, draw_pictures, load_renderer
-from ._progress import Progress
+from ._progress import Progress, counted
 from ._progress import say as _say
 from ._table import print_layout, print_table, table_columns
 
@@ -343,8 +343,8 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
                 break
             if outcome.compiled >= MENTION_SECONDS and not args.quiet:
                 progress.message(more_text(outcome.record["file"], outcome.compiled))
-            for message in outcome.warnings:
-                progress.message(f"{outcome.record['file']}: warning: {message}")
+            for message in outcome.warnings:  # one short line each; the row keeps them whole
+                progress.warning(outcome.record["file"], message)
             progress.update(outcome.record)
             guard.check()
     except KeyboardInterrupt as exc:
@@ -362,6 +362,7 @@ def _run(args, files, settings, per_vertex, scheduler, render, output, guard) ->
         with guard.held():
             running.close()  # stops the workers, also on Ctrl-C
             progress.close()
+    progress.explain()  # each long warning's explanation, once per run
 
     with guard.held():  # the table is written whole, even if Ctrl-C comes now
         code = _write(
@@ -421,7 +422,7 @@ def _write(
 
     columns = layout(args.columns, settings.metrics, settings.rotations())
     if failed and not columns.failed_rows:
-        _say(f"{failed} failed file(s) left out of the table (--columns {columns.name})")
+        _say(f"{counted(failed, 'failed file')} left out of the table (--columns {columns.name})")
     computed = any(r["status"] != "error" for r in new)  # a partial row is a computed row
     if args.output == STDOUT:
         write_table(sys.stdout, records, columns=columns)
@@ -451,7 +452,7 @@ def _write(
             return 1
         if not args.quiet:
             detail = f"{failed - partial} failed" + (f", {partial} partial" if partial else "")
-            _say(f"wrote {written} rows to {args.output} ({detail})")
+            _say(f"wrote {counted(written, 'row')} to {args.output} ({detail})")
     elif columns.name != "dentopo":
         print_layout(records, columns)
     else:

@@ -34,7 +34,7 @@ from ..formats import (
     read_table,
     write_table,
 )
-from ._progress import say
+from ._progress import counted, say
 
 
 def writable_problem(path: str, what: str) -> str | None:
@@ -233,11 +233,14 @@ class TableOutput:
             write_table(self.path, merge_records(previous, rows), columns=self.columns)
             if not self.quiet:
                 say(
-                    f"added {len(rows)} rows of an earlier run that was stopped before it "
-                    f"finished (kept in {self.journal_path}) to {self.path}"
+                    f"added {counted(len(rows), 'row')} of an earlier run that was stopped "
+                    f"before it finished (kept in {self.journal_path}) to {self.path}"
                 )
         if skipped:
-            say(f"{self.journal_path}: {skipped} unreadable line(s) skipped (cut short by a kill)")
+            say(
+                f"{self.journal_path}: {counted(skipped, 'unreadable line')} skipped (cut short "
+                "by a kill)"
+            )
         os.unlink(self.journal_path)
 
     def start_journal(self) -> None:

@@ -37,7 +37,7 @@ from ..prepare import (
 )
 from ._hints import CommandLineHints
 from ._output import Planned, output_problem
-from ._progress import Progress, say
+from ._progress import Progress, counted, say
 
 #: The exit code of a run stopped by Ctrl-C or SIGTERM.
 INTERRUPTED = 130
@@ -480,7 +480,7 @@ def prepare_main(argv: list[str]) -> int:
     ]
     left_out = len(found.files) - len(files)
     if left_out and files and not args.quiet:
-        say(f"{left_out} file(s) in the output folders left out")
+        say(f"{counted(left_out, 'file')} in the output folders left out")
     if not files:
         if left_out:  # every file found lies in the output folder: it holds the inputs
             folders = " and ".join(repr(d) for d in own)
@@ -576,19 +576,21 @@ def _run(args, parser, protocol, tasks, render) -> int:
     try:
         for outcome in running:
             record = hints.record(outcome.record)
-            for message in outcome.warnings:
-                progress.message(f"{outcome.file}: warning: {hints(message)}")
+            for message in outcome.warnings:  # one short line each; the record keeps them whole
+                progress.warning(outcome.file, hints(message))
             progress.update(record)
             done += 1
             failed += outcome.status != "ok"
     except KeyboardInterrupt:
         running.close()
         progress.close()
+        progress.explain()
         say(f"{done} of {len(todo)} files done")
         raise
     finally:
         running.close()
         progress.close()
+    progress.explain()  # each long warning's explanation, once per run
     code = 1 if failed else 0
     if render is not None:
         code = max(code, _sheet(args, tasks))
@@ -622,5 +624,5 @@ def _sheet(args, tasks) -> int:
         say(f"cannot write the preview sheet {path!r}: {getattr(exc, 'strerror', None) or exc}")
         return 1
     if not args.quiet:
-        say(f"wrote {len(pictures)} previews on {path}")
+        say(f"wrote {counted(len(pictures), 'preview')} on {path}")
     return 0

@@ -3,11 +3,13 @@
 On a terminal (stderr is a TTY) a `rich` progress bar shows the files done and
 the total, the rate (meshes per second), the time left and the current file
 with its phase (prepare, kernel, bending, sign, totals).  Otherwise each file
-gives one plain line, ``dentopo: [3/10] path: ok (0.12 s)``, and a mesh that
+gives one plain line, ``dentopo: [3/10] path: ok (0.12 s)`` (``partial`` and
+``error`` rows too, with their reason: every row is counted), and a mesh that
 takes longer than :data:`SLOW_MESH_SECONDS` reports its phases; no escape
 codes are written, and rich is not even imported.  Errors and warnings about a
-file are always written, also with ``--quiet``.  Nothing goes to stdout, which
-holds only results.
+file are always written, also with ``--quiet``: one line per file and warning,
+the long ones short, their explanation once at the end of the run
+(:mod:`._briefs`).  Nothing goes to stdout, which holds only results.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import os
 import sys
 import time
 
+from ._briefs import Briefing
 from ._streams import write_stderr
 
 PROG = "dentopo"
@@ -30,6 +33,11 @@ def is_terminal(stream) -> bool:
         return bool(stream.isatty())
     except (AttributeError, ValueError):  # no isatty, or closed
         return False
+
+
+def counted(count: int, word: str, plural: str | None = None) -> str:
+    """``1 row``, ``2 rows``: `count` and `word`, plural unless one (`plural`: if not ``+s``)."""
+    return f"{count} {word if count == 1 else plural or word + 's'}"
 
 
 def say(message: str) -> None:
@@ -96,11 +104,15 @@ class Progress:
     console : rich.console.Console, optional
         Draw on this console as on a terminal (tests); default: a console on
         stderr when stderr is a terminal, plain lines otherwise.
+    briefing : Briefing, optional
+        Writes the long warnings and errors short, and keeps their explanations
+        for :meth:`explain` (default: a new one).
     """
 
-    def __init__(self, total: int, *, quiet: bool, console=None):
+    def __init__(self, total: int, *, quiet: bool, console=None, briefing=None):
         self.total = total
         self.quiet = quiet
+        self.briefing = Briefing() if briefing is None else briefing
         self.done = 0
         self.mesh_start = time.perf_counter()
         self._phase_file: str | None = None
@@ -136,18 +148,39 @@ class Progress:
                 f"{PROG}: {text}", style=style, markup=False, highlight=False, soft_wrap=True
             )
 
+    def warning(self, file: str, text: str) -> None:
+        """A warning about `file`, one line (a long one short: :mod:`._briefs`), always shown."""
+        self.message(f"{file}: warning: {self.briefing(file, text)}")
+
     def update(self, record: dict) -> None:
-        """One file is done: `record` is its table row."""
+        """One file is done: `record` is its table row.
+
+        Every row is counted, whatever its status: a plain line
+        ``[3/10] path: partial (0.12 s): reason`` for a row that is not ``ok``
+        (always shown; ``path: partial: reason`` without progress), ``[3/10]
+        path: ok (0.12 s)`` otherwise.
+        """
         self.done += 1
         seconds = record["seconds"]
         timing = "" if seconds is None else f" ({seconds:.2f} s)"
-        if record["status"] != "ok":  # "error", or "partial": some metric failed
-            self.message(f"{record['file']}: {record['status']}: {record['error']}", style="red")
+        file, status = record["file"], record["status"]
+        counter = f"[{self.done}/{self.total}] "
+        shown = self._bar is None and self._console is None and not self.quiet
+        if status != "ok":  # "error", or "partial": some metric failed
+            reason = self.briefing(file, str(record["error"]))
+            lead = counter if shown else ""
+            self.message(f"{lead}{file}: {status}{timing if lead else ''}: {reason}", style="red")
+        elif shown:
+            say(f"{counter}{file}: ok{timing}")
         if self._bar is not None:
-            current = f"{os.path.basename(record['file'])}: {record['status']}{timing}"
+            current = f"{os.path.basename(file)}: {status}{timing}"
             self._bar.update(self._task, completed=self.done, current=current)
-        elif self._console is None and not self.quiet and record["status"] == "ok":
-            say(f"[{self.done}/{self.total}] {record['file']}: ok{timing}")
+
+    def explain(self) -> None:
+        """The explanation of each long warning met, once (after the last file's line)."""
+        for line in self.briefing.explanations():
+            say(line)
+        self.briefing = Briefing(self.briefing.briefs)  # said: not again
 
     def phase(self, file: str, name: str) -> None:
         """A phase of one mesh starts: shown on the bar, or as a line once a mesh is slow."""

@@ -5,9 +5,12 @@ glance by the hundred: on the left the raw scan seen from the side, its found
 occlusal axis pointing up the picture (a blue arrow: a crown lying on its side
 there was oriented wrongly), the base plane the orientation found (blue) and
 the crop plane (red), the part the crop removes shaded darker; on the right
-the prepared crown from the occlusal camera (:func:`camera_for`).  Both are a
-neutral grey, the file name and the face counts are written on the picture.
-:func:`preview_sheet` tiles many previews on one contact sheet.
+the prepared crown from the occlusal camera (:func:`camera_for`).  A crown
+left as it lies (no orient step, or one that found no axis) has no arrow: it
+is seen with its own +z up, and the picture says so.  Both are a neutral grey;
+the file name, the face counts and each warning (one short line each) are
+written on the picture.  :func:`preview_sheet` tiles many previews on one
+contact sheet.
 
 The planes are recorded by the steps in the coordinates of the mesh each
 step received: orient's in the raw scan's, crop's in the oriented crown's;
@@ -42,6 +45,45 @@ def _step(crown, name: str):
         return crown.step(name)
     except KeyError:
         return None
+
+
+def _axis_label(orient) -> str | None:
+    """What the blue arrow shows (``"found axis"``, ``"given axis"``), or None: no arrow.
+
+    The orient step draws an arrow only if it turned the crown to an axis it
+    found (or was given with ``up``); a crown left as it lies has none to show.
+    """
+    if orient is None or not orient.details.get("turned"):
+        return None
+    return "given axis" if orient.details.get("rule") == "up" else "found axis"
+
+
+def _raw_label(orient, cut) -> str:
+    """The raw view's caption: the axis drawn, or why none is; the crop plane, or no crop."""
+    shown = _axis_label(orient)
+    if shown is not None:
+        label = f"raw scan: {shown} (blue)"
+    elif orient is None:
+        label = "raw scan as it lies, +z up (no orient step)"
+    else:
+        label = "raw scan as it lies, +z up (no axis found)"
+    return label + (", crop plane (red)" if cut is not None else ", no crop")
+
+
+#: The warnings written on a preview, one line each (the rest counted), and their length.
+PREVIEW_WARNINGS = 3
+WARNING_CHARACTERS = 70
+
+
+def _warning_lines(warnings) -> list[str]:
+    """The warnings as the preview writes them: a heading, then one short line each."""
+    if not warnings:
+        return []
+    lines = ["warnings:"]
+    lines += [_start(text, WARNING_CHARACTERS) for text in warnings[:PREVIEW_WARNINGS]]
+    if len(warnings) > PREVIEW_WARNINGS:
+        lines.append(f"(and {len(warnings) - PREVIEW_WARNINGS} more: see the .prepare.json)")
+    return lines
 
 
 def _rigid_inverse(transform: np.ndarray) -> np.ndarray:
@@ -208,37 +250,35 @@ def render_preparation(
                 patch = _plane_patch(pv, cut[0], cut[1], 1.3 * extent)
                 plotter.add_mesh(patch, color=CROP_COLOR, opacity=0.25)
                 plotter.add_mesh(patch.extract_feature_edges(), color=CROP_COLOR, line_width=3)
-            heights = framed @ axis
-            start = base if base is not None else framed.mean(axis=0)
-            start = start + (heights.min() - float(start @ axis)) * axis
-            length = 1.25 * max(float(np.ptp(heights)), 1e-12)
-            arrow = pv.Arrow(
-                start=start,
-                direction=axis,
-                scale=length,
-                tip_length=0.12,
-                tip_radius=0.04,
-                shaft_radius=0.012,
-            )
-            plotter.add_mesh(arrow, color=AXIS_COLOR)
-            _frame(plotter, framed, _side_view(axis), axis, extra=[arrow.points])
-            label = (
-                "raw scan: found axis (blue)" if orient is not None else "raw scan: +z (no orient)"
-            )
-            label += ", crop plane (red)" if cut is not None else ", no crop"
+            extra = []
+            if _axis_label(orient) is not None:  # a crown left as it lies has no axis to show
+                heights = framed @ axis
+                start = base if base is not None else framed.mean(axis=0)
+                start = start + (heights.min() - float(start @ axis)) * axis
+                length = 1.25 * max(float(np.ptp(heights)), 1e-12)
+                arrow = pv.Arrow(
+                    start=start,
+                    direction=axis,
+                    scale=length,
+                    tip_length=0.12,
+                    tip_radius=0.04,
+                    shaft_radius=0.012,
+                )
+                plotter.add_mesh(arrow, color=AXIS_COLOR)
+                extra = [arrow.points]
+            _frame(plotter, framed, _side_view(axis), axis, extra=extra)
             plotter.add_text(
-                f"{len(raw_faces):,} faces\n{label}",
+                f"{len(raw_faces):,} faces\n{_raw_label(orient, cut)}",
                 position="lower_left",
                 font_size=8,
                 color="black",
             )
             plotter.add_text(_short(title), position="upper_left", font_size=11, color="black")
-            if crown.warnings:
-                more = f" (+{len(crown.warnings) - 1} more)" if len(crown.warnings) > 1 else ""
+            for row, line in enumerate(_warning_lines(crown.warnings)):
                 plotter.add_text(
-                    "warning: " + _start(crown.warnings[0], 50) + more,
-                    position=(6, window_size[1] - 44),
-                    font_size=8,
+                    line,
+                    position=(6, window_size[1] - 44 - 13 * row),
+                    font_size=6,
                     color=WARNING_COLOR,
                 )
             # right: the prepared crown from the occlusal camera

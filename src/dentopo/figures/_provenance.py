@@ -189,9 +189,10 @@ def read_provenance(path) -> dict:
         text = _png_text(name)
     else:
         with open(name, encoding="utf-8", errors="replace") as handle:
-            page = handle.read()
-        if "<html" not in page[:4096].lower():
-            raise ValueError(f"{name!r} is neither a PNG nor an HTML file")
+            page = handle.read(4096)  # not a whole scan of a gigabyte: the start tells
+            if "<html" not in page.lower():
+                raise ValueError(f"{name!r} is neither a PNG nor an HTML file")
+            page += handle.read()
         found = re.search(
             rf'<script type="application/json" id="{HTML_ID}">(.*?)</script>', page, re.S
         )

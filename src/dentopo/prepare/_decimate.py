@@ -72,8 +72,8 @@ preserved and planar simplification on, MeshLab's defaults otherwise
 fold the surface of a refined scan: the 1M-face ``high`` crown to 10,000
 faces had ariaDNE 0.240 against the original's 0.119; with these, 0.121.
 
-A target at or above the mesh's face count leaves the mesh as it is (a note
-in the details says so); a target below 4 faces is an error.
+A target at or above the mesh's face count leaves the mesh as it is (a warning
+says so, and a note in the details); a target below 4 faces is an error.
 """
 
 from __future__ import annotations
@@ -321,7 +321,7 @@ def run(
         The mesh (not modified).
     faces_target : int
         The face count to reach (at least 4).  At or above the mesh's count
-        the mesh is returned as it is, with a note in the details.
+        the mesh is returned as it is, with a warning (and a note in the details).
     method : {"quadric", "meshlab"}
         fast-simplification's quadric edge collapse, or MeshLab's (pymeshlab).
 
@@ -349,10 +349,13 @@ def run(
         )
     faces_target = int(faces_target)
     count = len(faces)
-    if faces_target >= count:
-        note = f"the mesh has {count} faces, not more than the {faces_target} asked: left as it is"
+    if faces_target >= count:  # said as a warning too: the file is not what was asked for
+        note = f"{count} faces, no more than the {faces_target} asked: not decimated"
         return Outcome(
-            vertices.copy(), faces.copy(), details={"faces_reached": count, "note": note}
+            vertices.copy(),
+            faces.copy(),
+            details={"faces_reached": count, "note": note},
+            warnings=(note,),
         )
     edges_before = boundary_edges(faces, len(vertices))
     loops_before, on_before = boundary_loops(faces, len(vertices), edges_before)

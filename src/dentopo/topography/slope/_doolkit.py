@@ -141,9 +141,15 @@ class DoolkitMesh:
         faces.flags.writeable = False
 
     def warn_orientation(self, stacklevel: int = 3) -> None:
-        """Warn (``UserWarning``) if the crown is measured pointing to -z."""
-        message = None if self.orientation is None else self.orientation.warning()
-        if message is not None:
+        """Warn (``UserWarning``, one per problem) of what the orientation check found.
+
+        One warning per problem, as molaR's metrics give them, so that a row
+        measured by both says each once (joined, the closed-surface warning was
+        written twice: alone, and again with the winding's).
+        """
+        if self.orientation is None:
+            return
+        for message in self.orientation.messages():
             warnings.warn(message, UserWarning, stacklevel=stacklevel)
 
     def cached(self, key, compute):

@@ -138,8 +138,17 @@ class Orientation:
         return self.winding in ("inward", "mixed")
 
     def __str__(self) -> str:
-        """The ``orientation`` column: ``-z, turned to +z``, ``-z; wound inward, rewound``."""
-        text = f"{self.points}, turned to +z" if self.turned else self.points
+        """The ``orientation`` column: ``points -z, turned to +z; wound inward, rewound``.
+
+        Words first (``points +z``, ``direction undetermined``): a table cell that
+        began with ``+`` or ``-`` would be quoted against spreadsheet formulas.
+        """
+        if self.points == "undetermined":
+            text = "direction undetermined"
+        elif self.turned:
+            text = f"points {self.points}, turned to +z"
+        else:
+            text = f"points {self.points}"
         if self.closed:
             text += "; closed, as it lies"
         if self.winding == "inward":
