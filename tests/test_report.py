@@ -414,7 +414,7 @@ def test_a_view_past_the_table_says_so(collection, tmp_path):
 
 @pytest.fixture(scope="module")
 def wide(collection):
-    """The collection computed with --metrics all (ten metric columns) and its report."""
+    """The collection computed with --metrics all (every metric column) and its report."""
     root, _, _ = collection
     table, page = root / "all.csv", root / "all.html"
     code = main(
@@ -428,10 +428,19 @@ def test_every_metric_is_a_column_and_the_status_comes_before_them(wide):
     table, page = wide
     text = page.read_text()
     head = re.search(r"<thead><tr>(.*?)</tr></thead>", text).group(1)
-    names = re.findall(r"<th[^>]*>([^<]*)</th>", head)
-    assert names[:5] == ["#", "map", "specimen", "group", "status, error"]
-    metrics = names[5:-1]
-    assert {"ariaDNE", "classic DNE convex", "OPCR", "OPC", "slope (\u00b0)"} <= set(metrics)
+    names = [
+        re.sub(r"<[^>]+>", "", cell)
+        for cell in re.findall(r"<th[^>]*>(.*?)(?:<span class=\"fam\">.*?</span>)?</th>", head)
+    ]
+    assert names[:5] == ["#", "map", "specimen", "group", "status, error, warnings"]
+    metrics = names[5:]
+    assert {
+        "ariaDNE",
+        "classic DNE convex",
+        "OPCR (patches)",
+        "OPC (patches)",
+        "slope (\u00b0)",
+    } <= set(metrics)
     # RFI fails on these small crowns: a long error each, in the status cell next to the name
     records = read_table(table)
     partial = next(r for r in records if r["status"] == "partial")
@@ -440,10 +449,16 @@ def test_every_metric_is_a_column_and_the_status_comes_before_them(wide):
     cell = re.search(r'<td class="status-cell"[^>]*>(.*?)</td>', row, flags=re.S).group(1)
     assert "partial" in cell and 'class="error" title="' in cell
     assert html.escape(partial["error"], quote=True) in cell  # all of it, cut only on screen
-    # the scatter matrix's chooser, one box per metric column, on short names explained
-    boxes = re.findall(r'<label><input type="checkbox" value="\d+" checked> ([^<]*)</label>', text)
-    assert len(boxes) == len(metrics) >= 9
-    assert boxes[:3] == ["aDNE", "aDNE+", "aDNE\u2212"]
+    # the scatter matrix's chooser, one box per metric plotted (not OPC's bins and rotations),
+    # on short names explained; the first ten key metrics ticked
+    chooser = re.search(r'<div id="splom-metrics".*?</div></div>', text).group(0)
+    boxes = re.findall(
+        r'<label><input type="checkbox" value="\d+"( checked)?> ([^<]*)</label>', chooser
+    )
+    ticked = [name for checked, name in boxes if checked]
+    assert len(boxes) > 40 and 9 <= len(ticked) <= 10
+    assert ticked[:3] == ["aDNE", "aDNE+", "aDNE\u2212"]
+    assert "opc_bin1" not in chooser and "dk_opcr_rot0" not in chooser
     assert "cDNE\u2212: classic DNE concave" in text
 
 
@@ -469,19 +484,22 @@ def test_at_1400_by_900_nothing_is_hidden(wide, tmp_path):
 @needs_chromium
 def test_the_layout_check_sees_what_it_checks(wide, tmp_path):
     """The same page with the fixes undone (long axis titles, the viewer's toolbar on its
-    colour bar, a wide status column): the checks name each problem."""
+    colour bar, a wide status column, the table not scrolled in its own box): the checks
+    name each problem."""
     _, page = wide
     text = page.read_text()
     text = re.sub(r'"short":"[^"]*"', '"short":"classic DNE concave"', text)
     text = text.replace("margin: { l: 0, r: 0, t: 36, b: 0 }", "margin: { l: 0, r: 0, t: 0, b: 0 }")
     text = text.replace("len: 0.9, y: 0.45", "len: 1")
     text = text.replace("max-width: 260px;", "min-width: 1400px;")
+    text = text.replace(".table-wrap { overflow: auto;", ".table-wrap { overflow: visible;")
     broken = tmp_path / "undone.html"
     broken.write_text(text)
     dom, _ = _dom(tmp_path, broken.as_uri() + "#view=2", "--window-size=1400,900")
     layout = _status(dom)["layout"]
     assert "scatter matrix titles overlap" in layout
     assert "toolbar over the colour bar" in layout
+    assert "status column out of view" in layout
     assert "page wider than the window" in layout
 
 

@@ -1,4 +1,4 @@
-"""The collection: the table's rows, their files, their groups and the metric columns held.
+"""The collection: the table's rows, their files, their groups and the columns held.
 
 A table is read with :func:`dentopo.formats.read_table` (any layout it knows:
 dentopo's, the published signDNE CLI's, molaR_Batch's) or given as records.
@@ -22,31 +22,7 @@ from dataclasses import dataclass, field
 
 from ..formats import PROTOCOL_KEY, read_table
 from ..prepare import Protocol, ProtocolError, load_protocol, named_protocols
-
-#: Metric columns shown and plotted when the table holds them, in this order, with labels.
-METRIC_LABELS = {
-    "dne": "ariaDNE",
-    "positive_dne": "ariaDNE +",
-    "negative_dne": "ariaDNE \u2212",
-    "classic_dne": "classic DNE",
-    "classic_convex_dne": "classic DNE convex",
-    "classic_concave_dne": "classic DNE concave",
-    "rfi": "RFI",
-    "rfi_projected": "RFI, projected footprint",
-    "opcr": "OPCR",
-    "opc": "OPC",
-    "slope": "slope (\u00b0)",
-    "pcv": "PCV",
-}
-
-#: ariaDNE's settings columns and their defaults (for a table that does not hold them).
-ARIADNE_SETTINGS = {
-    "bandwidth": 0.08,
-    "cutoff": 0.0,
-    "distance_type": "euclidean",
-    "sign_method": "centroid",
-    "method": "auto",
-}
+from ._columns import ARIADNE_SETTINGS, ORIENTATION, ReportColumn, orientation_mark, report_columns
 
 #: The group of the specimens a groups file does not name.
 UNGROUPED = "(ungrouped)"
@@ -91,6 +67,21 @@ class Specimen:
     def error(self) -> str:
         """The row's error cell (empty when there is none)."""
         return str(self.record.get("error") or "")
+
+    @property
+    def warnings(self) -> str:
+        """The row's warnings cell (empty when there is none)."""
+        return str(self.record.get("warnings") or "")
+
+    @property
+    def orientation(self) -> str:
+        """The row's ``orientation`` cell (empty when there is none)."""
+        return str(self.record.get(ORIENTATION) or "")
+
+    @property
+    def mark(self) -> str | None:
+        """``"closed"`` or ``"turned"`` from its orientation cell, or None."""
+        return orientation_mark(self.record.get(ORIENTATION))
 
     @property
     def protocol_label(self) -> str | None:
@@ -165,19 +156,6 @@ def files_below(root: str, names: set[str]) -> dict[str, str]:
         if seen > SEARCH_LIMIT:
             break
     return {name: path for name, path in found.items() if path is not None}
-
-
-def metric_keys(records: Sequence[dict]) -> list[str]:
-    """The metric columns of :data:`METRIC_LABELS` that hold a number in some row."""
-    return [
-        key for key in METRIC_LABELS if any(_number(row.get(key)) is not None for row in records)
-    ]
-
-
-def _number(value) -> float | None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return None
-    return float(value) if math.isfinite(value) else None
 
 
 def folder_groups(files: Sequence[str]) -> list[str]:
@@ -302,8 +280,12 @@ def row_protocols(specimens: Sequence[Specimen], prepare=None) -> dict[str, Prot
     return found
 
 
-def collect(table, *, groups=None) -> tuple[list[Specimen], list[str]]:
-    """The specimens of `table` with their groups, and the metric columns it holds.
+def collect(table, *, groups=None) -> tuple[list[Specimen], list[ReportColumn]]:
+    """The specimens of `table` with their groups, and the columns the page shows.
+
+    The columns (:func:`._columns.report_columns`) are every column of the
+    table but its settings and the row's own (file, status ...): its metrics by
+    family, any column the package does not know, the mesh counts.
 
     Parameters
     ----------
@@ -344,4 +326,4 @@ def collect(table, *, groups=None) -> tuple[list[Specimen], list[str]]:
         )
     for specimen, name in zip(specimens, names, strict=True):
         specimen.group = name
-    return specimens, metric_keys(records)
+    return specimens, report_columns(records)

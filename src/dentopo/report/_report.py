@@ -82,11 +82,17 @@ def write_report(
     """Write one self-contained HTML page about a collection of measured meshes.
 
     The page holds a sortable, filterable table with one row per specimen
-    (a thumbnail of its signed curvature map, its metrics, status and error),
-    each metric's distribution per group (box plots over every point), a
-    scatter matrix of the metrics coloured by group, a 3D view of any
-    specimen on click (unpacked only then), and the specimens that failed
-    with their errors.  It works offline: plotly.js is inlined once, and
+    (a thumbnail of its signed curvature map, its status, error and
+    warnings, and every column the table holds but its settings: the metrics
+    by family, ariaDNE, molaR, doolkit, MorphoTester, the projected
+    footprint's RFI, PCV, with their units, then any column the package does
+    not know, under "other", and the mesh counts), each metric's distribution
+    per group (box plots over every point, family by family), a scatter
+    matrix of the metrics ticked, coloured by group, a 3D view of any
+    specimen on click (unpacked only then), each row's warnings, and the
+    specimens that failed with their errors.  Specimens measured closed (as
+    they lie) or turned, as their ``orientation`` cell says, are marked, and
+    the marks explained.  It works offline: plotly.js is inlined once, and
     nothing is fetched.
 
     Parameters
@@ -159,11 +165,12 @@ def write_report(
             f"collection so that its pictures compare; got limits={limits!r}"
         )
     path = os.fspath(path)
-    specimens, metrics = collect(table, groups=groups)
+    specimens, columns = collect(table, groups=groups)
+    charted = {column.key for column in columns if column.charted}
     protocols = row_protocols(specimens, prepare)  # before any work: a missing one is named
 
     for specimen in specimens:  # its ariaDNE failed when the table was computed: so would ours
-        if "dne" in metrics and specimen.status == "partial" and specimen.record.get("dne") is None:
+        if "dne" in charted and specimen.status == "partial" and specimen.record.get("dne") is None:
             specimen.problem = specimen.problem or "ariaDNE failed (see the error)"
     todo = [s for s in specimens if s.path is not None and s.status != "error" and not s.problem]
     jobs = jobs or available_cores()
@@ -205,13 +212,13 @@ def write_report(
         base = os.path.splitext(os.path.basename(source))[0] if source != "records" else ""
         title = f"dentopo report: {base}" if base else "dentopo report"
     notes = []
-    if "dne" not in metrics:
+    if "dne" not in charted:
         notes.append("The table holds no ariaDNE column: pictures use ariaDNE's default settings.")
     content = PageContent(
         title=title,
         source=source,
         specimens=specimens,
-        metrics=metrics,
+        columns=columns,
         groups=order,
         scale=scale,
         thumbnails=thumbnails,
