@@ -29,7 +29,7 @@ from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Route
 
-from ._jobs import Job
+from ._pictures import Drawing
 from ._security import Guard, PathRefusedError, inside
 from ._workspace import AppError, Workspace
 
@@ -258,11 +258,9 @@ def build_app(
             request.query_params.get("path"),
             request.query_params.get("metric"),
         )
-        if isinstance(found, Job):
+        if isinstance(found, Drawing):
             if found.state == "failed":
-                lines = [line for line in found.log if line.strip()]
-                reason = lines[-1] if lines else "the picture could not be drawn"
-                return _error(reason, 422)
+                return _error(found.error or "the picture could not be drawn", 422)
             return _json(request, {"state": "drawing"}, 202)
         return FileResponse(found, media_type="image/png")
 

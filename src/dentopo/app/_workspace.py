@@ -12,9 +12,10 @@ folder shows what is done:
 * ``report.html``: the collection report; ``prepared/``: the prepared meshes,
   each with its ``.prepare.json``, and the protocols they were made with.
 
-Measuring, preparing, drawing maps and the report are done by the command in a
-child process (:mod:`._jobs`); previews of a preparation and the tables' exports
-are the library's, in this process.
+Measuring, preparing and the report are done by the command in a child process
+(:mod:`._jobs`); maps by the app's warm picture worker (:mod:`._pictures`), as the
+command draws them; previews of a preparation and the tables' exports are the
+library's, in this process.
 """
 
 from __future__ import annotations
@@ -62,6 +63,7 @@ from ..sign import SIGN_METHODS, check_sign_method
 from ..topography import GROUPS, METRICS, check_metrics
 from ._folder import NOT_UNICODE, Folder, MeshEntry, simplified
 from ._jobs import Job
+from ._pictures import MAPS, Drawing, PictureWorker, map_request
 from ._security import PathRefusedError, inside, relative_to
 
 #: The results table, in the output folder.
@@ -70,13 +72,6 @@ TABLE = "results.csv"
 OUTPUT_NAME = "dentopo-app"
 #: Faces the page's 3D view draws at most (a larger mesh is decimated for the view only).
 VIEW_FACES = 150_000
-#: The maps the page shows: name -> (the metric computed, the command's --color-by).
-MAPS = {
-    "curvature": ("ariadne", "local_curvature"),
-    "slope": ("slope", "slope"),
-    "opc": ("opc", "opc"),
-    "arc": ("arc", "arc"),
-}
 #: The table exports: format -> (suffix, MIME type).
 EXPORTS = {
     "csv": (".csv", "text/csv"),
@@ -214,7 +209,8 @@ class Workspace:
         self.run: Job | None = None
         self.run_files: list[str] = []
         self._finished: dict[str, dict] = {}
-        self.pictures: dict[str, Job] = {}
+        self.pictures: dict[str, Drawing] = {}
+        self.drawer = PictureWorker()  # started when the server starts, or at the first map
         self.report: Job | None = None
         self.export: Job | None = None
 
@@ -567,12 +563,11 @@ class Workspace:
 
     # -- maps, the report, the prepared meshes: the command, in the background -----------------
 
-    def map_picture(self, relative, name) -> str | Job:
-        """The PNG of a mesh's map (its path), or the job drawing it."""
+    def map_picture(self, relative, name) -> str | Drawing:
+        """The PNG of a mesh's map (its path), or the drawing of it by the picture worker."""
         if name not in MAPS:
             raise AppError(f"map must be one of {', '.join(MAPS)}")
         entry = self.mesh(relative)
-        metric, color_by = MAPS[name]
         options = self.last_options()
         protocol, protocol_path = self.protocol_for(relative) if options.prepare else (None, None)
         key = json.dumps(
@@ -588,18 +583,20 @@ class Workspace:
         if os.path.exists(target):
             return target
         with self._lock:
-            job = self.pictures.get(target)
-            if job is not None and (job.running() or job.state == "failed"):
-                return job
+            drawing = self.pictures.get(target)
+            if drawing is not None and drawing.running():
+                return drawing
+            if drawing is not None and drawing.state == "failed":
+                if drawing.retry:  # the worker died under it: said once, drawn anew when asked
+                    del self.pictures[target]
+                return drawing
             os.makedirs(os.path.dirname(target), exist_ok=True)
-            arguments = [*options.arguments(), "--quiet"]
-            arguments[arguments.index("--metrics") + 1] = metric
-            arguments += ["--color-by", color_by, "--screenshot", target, "--size", "900,760"]
-            if protocol_path is not None:
-                arguments += ["--prepare", protocol_path]
-            job = Job([[*arguments, "--", relative]], self.root).start()
-            self.pictures[target] = job
-            return job
+            request = map_request(
+                self.root, relative, name, options.to_json(), protocol_path, target
+            )
+            drawing = self.drawer.submit(Drawing(target, request))
+            self.pictures[target] = drawing
+            return drawing
 
     def start_report(self) -> dict:
         with self._lock:
@@ -697,7 +694,8 @@ class Workspace:
     def close(self) -> None:
         """Stop the background work: a run writes the rows it finished."""
         self.folder.close()
-        for job in (self.run, self.report, self.export, *self.pictures.values()):
+        self.drawer.close()
+        for job in (self.run, self.report, self.export):
             if job is not None and job.running():
                 job.stop()
 
