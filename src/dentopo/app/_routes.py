@@ -245,6 +245,12 @@ def build_app(
             return _json(request, await run_in_threadpool(workspace.start_run, body))
         return _json(request, await run_in_threadpool(workspace.run_state))
 
+    async def output(request: Request):
+        body = await _json_body(request)
+        if not isinstance(body, dict):
+            raise AppError("send an object: {output}")
+        return _json(request, await run_in_threadpool(workspace.choose_output, body.get("output")))
+
     async def cancel(request: Request):
         await _json_body(request)
         return _json(request, await run_in_threadpool(workspace.cancel_run))
@@ -320,6 +326,7 @@ def build_app(
         Route("/api/protocol.toml", handled(protocol_file)),
         Route("/api/run", handled(run), methods=["GET", "POST"]),
         Route("/api/run/cancel", handled(cancel), methods=["POST"]),
+        Route("/api/output", handled(output), methods=["POST"]),
         Route("/api/results", handled(results)),
         Route("/api/map", handled(map_picture)),
         Route("/api/report", handled(report), methods=["GET", "POST"]),
