@@ -52,8 +52,14 @@ MAX_REASON = 300
 STOP_SECONDS = 5.0
 #: Lines of the worker's standard error kept (a crash's last words, for the log).
 LOG_LINES = 50
-#: What the worker runs (a ``-c`` program: nothing of the app's folder on its path).
-WORKER_CODE = "from dentopo.app._pictures import serve; serve()"
+#: What the worker runs: a ``-c`` program, without the current folder (``-c`` puts it first on
+#: the path: a file of the user's could take the place of a module the worker imports).
+WORKER_CODE = (
+    "import sys\n"
+    "if sys.path[:1] == ['']: del sys.path[0]\n"
+    "from dentopo.app._pictures import serve\n"
+    "serve()\n"
+)
 
 
 def map_request(root: str, relative: str, name: str, settings: dict, prepare, target: str):
@@ -222,8 +228,6 @@ class PictureWorker:
                 if self._process.poll() is None:
                     return self._process
                 _close_pipes(self._process)  # died while it waited: replaced
-            here = _package_parent()  # the dentopo this server runs, whatever the path says
-            path = os.pathsep.join([here, *filter(None, [os.environ.get("PYTHONPATH")])])
             self._process = subprocess.Popen(
                 [sys.executable, "-c", WORKER_CODE],
                 stdin=subprocess.PIPE,
@@ -232,8 +236,7 @@ class PictureWorker:
                 text=True,
                 encoding="utf-8",
                 errors="replace",
-                cwd=here,
-                env={**os.environ, "PYTHONUNBUFFERED": "1", "PYTHONPATH": path},
+                env=_worker_environment(),
                 start_new_session=True,  # a Ctrl-C meant for the server is not the worker's
             )
             self.started += 1
@@ -295,11 +298,23 @@ def _close_pipes(process: subprocess.Popen) -> None:
             pass
 
 
-def _package_parent() -> str:
-    """The folder dentopo is imported from (already on the path: the worker's folder adds
-    nothing, where the app's folder could hold a module named as one the worker imports)."""
+def _worker_environment() -> dict:
+    """The server's environment, with the folder this dentopo is imported from first on the
+    path (a relative ``PYTHONPATH`` or an editable checkout found the same dentopo), unless it
+    is a site-packages folder, which the worker finds anyway."""
+    import site
+    import sysconfig
+
     package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))  # .../dentopo
-    return os.path.dirname(package)
+    here = os.path.dirname(package)
+    paths = sysconfig.get_paths()
+    sites = {paths["purelib"], paths["platlib"], *site.getsitepackages()}
+    sites.add(site.getusersitepackages())
+    environment = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    if os.path.realpath(here) not in {os.path.realpath(p) for p in sites}:
+        given = os.environ.get("PYTHONPATH")
+        environment["PYTHONPATH"] = os.pathsep.join([here, given] if given else [here])
+    return environment
 
 
 # -- the worker process ---------------------------------------------------------------------------
@@ -310,6 +325,7 @@ def serve() -> None:
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the server stops it (also in its session)
+    signal.signal(signal.SIGTERM, _leave)  # stopped: the picture half drawn is removed
     answers = os.fdopen(os.dup(1), "w", encoding="utf-8", buffering=1)
     os.dup2(2, 1)  # what a library prints goes to the log, never into the answers
     sys.stdout = sys.stderr
@@ -329,6 +345,10 @@ def serve() -> None:
             answer = {"error": one_line(error_reason(exc))}
         answers.write(json.dumps(answer) + "\n")
     # the end of the input: the server closed it, or died
+
+
+def _leave(signum, frame) -> None:
+    raise SystemExit(128 + signum)
 
 
 def warm_up() -> None:
