@@ -197,6 +197,9 @@ class PictureWorker:
                 drawing.state, drawing.error = "failed", one_line(exc) or "the picture failed"
             except _WorkerStoppedError as exc:
                 drawing.state, drawing.error, drawing.retry = "failed", str(exc), True
+            except Exception as exc:  # never the thread's end: the next picture is drawn
+                reason = one_line(f"the picture worker failed: {type(exc).__name__}: {exc}")
+                drawing.state, drawing.error, drawing.retry = "failed", reason, True
             finally:
                 if drawing.request.get("kind") == "warm":
                     self.warmed.set()
