@@ -527,3 +527,79 @@ def test_csv_link_gives_the_table(page, shots, folder):
     page.save_screenshot(str(shots / "5-top.png"))
     assert all((shots / name).stat().st_size > 0 for name in ("4-results.png", "5-top.png"))
     assert status(page, "errors") == ""
+
+
+def test_the_progress_shows_the_compile_wait_and_never_goes_back(page, shots):
+    notice = "compiling dentopo's kernels for this machine, once: about 30 s"
+    draw = (
+        "const base = {run: 999999, state: 'running', total: 5, files: {}, log: [],"
+        "  exit_code: null, command: ''};"
+        "drawRun(Object.assign({}, base, arguments[0]));"
+    )
+
+    def progress():
+        return page.execute_script(
+            "const p = document.getElementById('progress');"
+            "const note = p.querySelector('.progress-note');"
+            "return [p.querySelector('.progress-text').textContent, note.hidden,"
+            "  note.textContent, p.dataset.phase || '']"
+        )
+
+    page.execute_script(
+        draw, {"serial": 1, "done": 0, "compiling": {"message": notice, "seconds": 12}}
+    )
+    text, hidden, note, phase = progress()
+    assert text == "0 / 5" and not hidden and phase == "compiling"
+    assert note == notice + " \u00b7 12 s so far"
+    assert notice in page.find_element(By.ID, "progress").text  # shown, not only in the log
+    page.execute_script("document.getElementById('progress').scrollIntoView({block: 'center'})")
+    page.save_screenshot(str(shots / "6-compiling.png"))
+    page.execute_script(draw, {"serial": 3, "done": 2, "compiling": None})
+    assert progress() == ["2 / 5", True, "", ""]
+    page.execute_script(
+        draw, {"serial": 2, "done": 1, "compiling": {"message": notice, "seconds": 5}}
+    )
+    assert progress() == ["2 / 5", True, "", ""]  # an older answer: never drawn over a newer one
+    page.execute_script("getJSON('/api/run').then(drawRun)")  # the real run again
+    wait(page, 10, "the real run drawn", lambda d: progress()[0] != "2 / 5")
+    assert status(page, "errors") == ""
+
+
+def test_the_page_says_where_it_writes_and_chooses_another_folder(page, shots, folder):
+    default = os.path.realpath(folder / "dentopo-app")
+    assert page.find_element(By.ID, "output-where").text == default
+    assert page.find_element(By.ID, "output").text == default
+    click(page, page.find_element(By.ID, "output-change"))
+    box = page.find_element(By.ID, "output-folder")
+    assert box.get_attribute("value") == "dentopo-app"
+    page.execute_script("document.getElementById('message').hidden = true")
+    box.clear()
+    box.send_keys("../escape")
+    click(page, page.find_element(By.ID, "output-use"))
+    wait(page, 10, "the refusal", lambda d: d.find_element(By.ID, "message").is_displayed())
+    assert "refused" in page.find_element(By.ID, "message-text").text
+    assert page.find_element(By.ID, "output-where").text == default
+    assert not (folder.parent / "escape").exists()
+    box.clear()
+    box.send_keys("second try")
+    page.execute_script("document.getElementById('measure-section').scrollIntoView()")
+    page.save_screenshot(str(shots / "7-output.png"))
+    click(page, page.find_element(By.ID, "output-use"))
+    chosen = os.path.realpath(folder / "second try")
+    wait(
+        page,
+        30,
+        "the new folder shown",
+        lambda d: d.find_element(By.ID, "output-where").text == chosen,
+    )
+    assert page.find_element(By.ID, "output").text == chosen
+    assert page.find_element(By.ID, "table-path").text == os.path.join(chosen, "results.csv")
+    wait(
+        page,
+        30,
+        "the other folder's (no) results",
+        lambda d: d.find_element(By.ID, "results-empty").is_displayed(),
+    )
+    assert (folder / "second try" / ".dentopo-output").exists()
+    assert not page.find_element(By.ID, "output-form").is_displayed()
+    assert status(page, "errors") == ""

@@ -37,6 +37,7 @@ POSTS = [
     "/api/run/cancel",
     "/api/report",
     "/api/export/prepared",
+    "/api/output",
 ]
 DEEP = 100_000
 #: Bodies refused before any address looks at them (what is not JSON the page could send).

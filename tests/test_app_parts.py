@@ -101,7 +101,7 @@ def test_an_output_folder_that_cannot_be_made_is_named(tmp_path):
 )
 def test_the_preview_in_two_is_the_preparation_to_the_bit(changes):
     from conftest import shared_mesh
-    from dentopo.app._workspace import prepared_in_two
+    from dentopo.app._preview import prepared_in_two
     from dentopo.mesh import load_mesh
     from dentopo.prepare import Protocol, prepare
 

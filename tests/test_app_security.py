@@ -211,6 +211,15 @@ def test_no_path_leads_out_of_the_folder(server, path):
     assert status in (403, 404), (path, status, body)
 
 
+@pytest.mark.parametrize("path", [*TRAVERSALS, "/tmp/elsewhere", "", "group-a", "tooth.ply"])
+def test_the_output_folder_chosen_on_the_page_stays_in_the_folder(server, study, path):
+    before = server.json("GET", "/api/state")["output"]
+    answer = server.request("POST", "/api/output", body={"output": urllib.parse.unquote(path)})
+    assert answer[0] in (400, 403), (path, answer)  # out, a file, or the folder's meshes
+    assert server.json("GET", "/api/state")["output"] == before
+    assert sorted(os.listdir(study[1])) == ["secret.ply", "secret.txt"]  # nothing written there
+
+
 @pytest.mark.parametrize(
     "address",
     [

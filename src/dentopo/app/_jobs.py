@@ -9,7 +9,9 @@ writing the rows done.  A cancel is a SIGTERM; a server that dies leaves its
 child to finish and write the table (it runs in a session of its own, so a
 Ctrl-C meant for the server does not reach it half-way: the server stops it
 with SIGTERM and waits).  The page follows the child's progress through the
-journal (each finished row, as the command keeps it) and its messages on stderr.
+journal (each finished row, as the command keeps it) and its messages on stderr,
+among which the line saying that numba is compiling the kernels (kept as
+:attr:`Job.compiling` while it holds; see :mod:`._progress`).
 
 A job runs its commands one after another (a batch whose meshes have their own
 protocols is one command per protocol, all into the same table) and stops at
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import collections
 import os
+import re
 import shlex
 import signal
 import subprocess
@@ -33,6 +36,10 @@ from dataclasses import dataclass, field
 LOG_LINES = 400
 #: Seconds a child is given to write its rows after SIGTERM, before it is killed.
 STOP_SECONDS = 60.0
+#: How the command's line begins while numba compiles its kernels (a fresh install's first run).
+COMPILING = "compiling dentopo's kernels"
+#: The command's plain progress line of a finished file (``[3/10] a.ply: ok``).
+FINISHED_LINE = re.compile(r"\[\d+/\d+\] ")
 
 
 def dentopo_command(arguments: Sequence[str]) -> list[str]:
@@ -62,6 +69,9 @@ class Job:
     ended: float | None = None
 
     def __post_init__(self):
+        #: While a command compiles numba's kernels: (which notice, its text, since when).
+        self.compiling: tuple[int, str, float] | None = None
+        self._notices = 0
         self._process: subprocess.Popen | None = None
         self._cancelled = False
         self._lock = threading.Lock()
@@ -115,6 +125,18 @@ class Job:
                 process.kill()
         self.wait(5)
 
+    def _note(self, line: str) -> None:
+        """Follow the command's compile notice: from its line until compiling is said to be
+        over or a file finishes (a line of its own about compiling, or a progress line)."""
+        text = line.removeprefix("dentopo: ")
+        if text.startswith(COMPILING):
+            self._notices += 1
+            self.compiling = (self._notices, text, time.time())
+        elif self.compiling is not None and (
+            text.startswith("compil") or FINISHED_LINE.match(text)
+        ):
+            self.compiling = None
+
     def _run(self) -> None:
         environment = {**os.environ, "PYTHONUNBUFFERED": "1"}
         for index, arguments in enumerate(self.commands):
@@ -140,7 +162,9 @@ class Job:
             with self._process.stderr:
                 for line in self._process.stderr:
                     self.log.append(line.rstrip("\n"))
+                    self._note(line.strip())
             code = self._process.wait()
+            self.compiling = None
             self.codes.append(code)
             if self.after is not None:
                 try:

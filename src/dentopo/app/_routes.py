@@ -29,7 +29,7 @@ from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Route
 
-from ._jobs import Job
+from ._pictures import Drawing
 from ._security import Guard, PathRefusedError, inside
 from ._workspace import AppError, Workspace
 
@@ -245,6 +245,12 @@ def build_app(
             return _json(request, await run_in_threadpool(workspace.start_run, body))
         return _json(request, await run_in_threadpool(workspace.run_state))
 
+    async def output(request: Request):
+        body = await _json_body(request)
+        if not isinstance(body, dict):
+            raise AppError("send an object: {output}")
+        return _json(request, await run_in_threadpool(workspace.choose_output, body.get("output")))
+
     async def cancel(request: Request):
         await _json_body(request)
         return _json(request, await run_in_threadpool(workspace.cancel_run))
@@ -258,11 +264,9 @@ def build_app(
             request.query_params.get("path"),
             request.query_params.get("metric"),
         )
-        if isinstance(found, Job):
+        if isinstance(found, Drawing):
             if found.state == "failed":
-                lines = [line for line in found.log if line.strip()]
-                reason = lines[-1] if lines else "the picture could not be drawn"
-                return _error(reason, 422)
+                return _error(found.error or "the picture could not be drawn", 422)
             return _json(request, {"state": "drawing"}, 202)
         return FileResponse(found, media_type="image/png")
 
@@ -322,6 +326,7 @@ def build_app(
         Route("/api/protocol.toml", handled(protocol_file)),
         Route("/api/run", handled(run), methods=["GET", "POST"]),
         Route("/api/run/cancel", handled(cancel), methods=["POST"]),
+        Route("/api/output", handled(output), methods=["POST"]),
         Route("/api/results", handled(results)),
         Route("/api/map", handled(map_picture)),
         Route("/api/report", handled(report), methods=["GET", "POST"]),

@@ -3,7 +3,8 @@
 uvicorn is the reference ASGI server (well kept, pure Python with h11, small).
 It runs with its own handling of Ctrl-C and SIGTERM (finish the requests in
 flight, then stop); :meth:`AppServer.serve` then stops the background work,
-a run writing the rows it finished.
+a run writing the rows it finished, and the picture worker (started, and
+warmed in the background, as the server starts).
 """
 
 from __future__ import annotations
@@ -86,6 +87,7 @@ class AppServer:
         config = uvicorn.Config(
             self.app, log_level="warning", access_log=False, lifespan="off", server_header=False
         )
+        self.workspace.drawer.warm()  # the picture worker, ready before the first map is asked
         try:
             uvicorn.Server(config).run(sockets=[self.socket])
         finally:

@@ -12,9 +12,10 @@ folder shows what is done:
 * ``report.html``: the collection report; ``prepared/``: the prepared meshes,
   each with its ``.prepare.json``, and the protocols they were made with.
 
-Measuring, preparing, drawing maps and the report are done by the command in a
-child process (:mod:`._jobs`); previews of a preparation and the tables' exports
-are the library's, in this process.
+Measuring, preparing and the report are done by the command in a child process
+(:mod:`._jobs`); maps by the app's warm picture worker (:mod:`._pictures`), as the
+command draws them; previews of a preparation and the tables' exports are the
+library's, in this process.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ from ..ariadne import (
     check_distance_type,
     check_method,
 )
-from ..batch import OUTPUT_FOLDER_MARK, available_cores
+from ..batch import OUTPUT_FOLDER_MARK, available_cores, make_settings
 from ..formats import (
     COLUMNS,
     METRIC_KEYS,
@@ -55,28 +56,21 @@ from ..formats import (
     read_journal,
     read_table,
 )
-from ..mesh import load_mesh
 from ..prepare import DECIMATORS, SMOOTHERS, Protocol, ProtocolError, read_protocol
-from ..report import pack_mesh
 from ..sign import SIGN_METHODS, check_sign_method
 from ..topography import GROUPS, METRICS, check_metrics
-from ._folder import NOT_UNICODE, Folder, MeshEntry, simplified
+from ._errors import AppError
+from ._folder import NOT_UNICODE, Folder, MeshEntry
 from ._jobs import Job
+from ._pictures import MAPS, Drawing, PictureWorker, map_request
+from ._preview import preview
+from ._progress import RunProgress, resumed_rows
 from ._security import PathRefusedError, inside, relative_to
 
 #: The results table, in the output folder.
 TABLE = "results.csv"
 #: The output folder's name inside the app's folder, unless another is chosen.
 OUTPUT_NAME = "dentopo-app"
-#: Faces the page's 3D view draws at most (a larger mesh is decimated for the view only).
-VIEW_FACES = 150_000
-#: The maps the page shows: name -> (the metric computed, the command's --color-by).
-MAPS = {
-    "curvature": ("ariadne", "local_curvature"),
-    "slope": ("slope", "slope"),
-    "opc": ("opc", "opc"),
-    "arc": ("arc", "arc"),
-}
 #: The table exports: format -> (suffix, MIME type).
 EXPORTS = {
     "csv": (".csv", "text/csv"),
@@ -90,14 +84,6 @@ _MARK_TEXT = (
     "skips a subfolder holding this file, so that the prepared meshes here are not measured\n"
     "again as scans.\n"
 )
-
-
-class AppError(ValueError):
-    """A request the app cannot do (a wrong parameter, a run going): its message is shown."""
-
-    def __init__(self, message: str, status: int = 400):
-        super().__init__(message)
-        self.status = status
 
 
 def _check_fields(data, kind, not_an_object: str, field: str) -> None:
@@ -154,6 +140,11 @@ class RunOptions:
             raise AppError("prepare must be true or false")
         return cls(**values)
 
+    def ariadne(self) -> dict:
+        """ariaDNE's settings, as keywords."""
+        names = ("bandwidth", "cutoff", "distance_type", "sign_method", "method")
+        return {name: getattr(self, name) for name in names}
+
     def arguments(self) -> list[str]:
         """The command's options for these settings."""
         return [
@@ -196,27 +187,65 @@ class Workspace:
         self.root = os.path.realpath(root)
         if not os.path.isdir(self.root):
             raise AppError(f"not a folder: {root}")
-        self.output = os.path.realpath(output or os.path.join(self.root, OUTPUT_NAME))
+        self._use_output(os.path.realpath(output or os.path.join(self.root, OUTPUT_NAME)))
+        self._lock = threading.Lock()
+        self._protocol_files: dict[str, tuple] = {}  # path -> (its stat, Protocol or reason)
+        self.run: Job | None = None
+        self.progress: RunProgress | None = None
+        self.pictures: dict[str, Drawing] = {}
+        self.drawer = PictureWorker()  # started when the server starts, or at the first map
+        self.report: Job | None = None
+        self.export: Job | None = None
+
+    # -- the output folder ----------------------------------------------------------------------
+
+    def _use_output(self, output: str, hint: str = "choose another with --output") -> None:
+        """Write into `output` from now on (made, and marked as the app's, first)."""
         try:
-            os.makedirs(os.path.join(self.output, ".app"), exist_ok=True)
-            mark = os.path.join(self.output, OUTPUT_FOLDER_MARK)
+            os.makedirs(os.path.join(output, ".app"), exist_ok=True)
+            mark = os.path.join(output, OUTPUT_FOLDER_MARK)
             if not os.path.exists(mark):  # dentopo FOLDER skips it: prepared copies are no scans
                 atomic_write(mark, lambda s: s.write(_MARK_TEXT))
         except OSError as exc:
             raise AppError(
-                f"cannot write into the output folder {self.output}: {exc.strerror or exc} "
-                "(choose another with --output)"
+                f"cannot write into the output folder {output}: {exc.strerror or exc} ({hint})"
             ) from None
-        self.folder = Folder(self.root, self.output)
-        self.table = os.path.join(self.output, TABLE)
-        self._lock = threading.Lock()
-        self._protocol_files: dict[str, tuple] = {}  # path -> (its stat, Protocol or reason)
-        self.run: Job | None = None
-        self.run_files: list[str] = []
-        self._finished: dict[str, dict] = {}
-        self.pictures: dict[str, Job] = {}
-        self.report: Job | None = None
-        self.export: Job | None = None
+        old = getattr(self, "folder", None)
+        self.output = output
+        self.folder = Folder(self.root, output)  # the new output folder's files are not meshes
+        self.table = os.path.join(output, TABLE)
+        if old is not None:
+            old.close()
+
+    def choose_output(self, relative) -> dict:
+        """Write into the folder `relative` (below the app's folder) from now on; the state.
+
+        A path from the page is data: it must be a plain relative path whose real path stays
+        inside the folder (:func:`inside`: no ``..``, no absolute path, no symlink out), must
+        not hold the folder's meshes, and is refused while anything runs.  What was written
+        into the folder before stays there (choose it again to see it).
+        """
+        if not isinstance(relative, str):
+            raise AppError("the output folder must be a text: a folder inside the app's folder")
+        relative = relative.rstrip("/")  # "results/" is "results"; "/results" stays absolute
+        try:
+            output = inside(self.root, relative)
+        except PathRefusedError as exc:
+            raise AppError(f"refused: {exc}", 403) from None
+        if os.path.exists(output) and not os.path.isdir(output):
+            raise AppError(f"{relative} is a file, not a folder")
+        holding = [e.path for e in self.folder.entries() if e.path.startswith(relative + "/")]
+        if holding:
+            raise AppError(f"{relative} holds meshes of the folder ({holding[0]}): choose another")
+        with self._lock:
+            jobs = (self.run, self.report, self.export, *self.pictures.values())
+            if any(job is not None and job.running() for job in jobs):
+                raise AppError("a run, a report, an export or a map is going: wait for it", 409)
+            if output != self.output:
+                self._use_output(output, "choose another")
+                self.run = self.progress = self.report = self.export = None
+                self.pictures = {}
+        return self.state()
 
     # -- paths inside the output folder ---------------------------------------------------------
 
@@ -353,6 +382,7 @@ class Workspace:
         return {
             "folder": self.root,
             "output": self.output,
+            "output_relative": _relative_inside(self.root, self.output),
             "table": self.table,
             "version": _version(),
             "meshes": meshes,
@@ -386,49 +416,7 @@ class Workspace:
 
     def preview(self, relative, data) -> dict:
         """The mesh after clean and orient (for the crop slider) and after the whole protocol."""
-        entry = self.mesh(relative)
-        protocol = protocol_from_json(data)
-        try:
-            mesh = load_mesh(entry.real)
-        except Exception as exc:
-            raise AppError(f"cannot read {relative}: {exc}") from None
-        try:
-            oriented, rest = prepared_in_two(mesh, protocol)
-        except (ValueError, ProtocolError) as exc:
-            raise AppError(str(exc), 422) from None
-        for made, steps in ((oriented, "cleaning and orienting"), (rest, "the protocol")):
-            if not np.isfinite(np.asarray(made.vertices)).all():  # never drawn, never sent as NaN
-                hint = (
-                    f" (the {protocol.smooth} smoothing diverges: a smaller step or fewer "
-                    "iterations)"
-                    if protocol.smooth is not None and made is rest
-                    else ""
-                )
-                raise AppError(f"{steps} made coordinates that are not finite{hint}", 422)
-        rotation = np.asarray(oriented.transform)[:3, :3]
-        found_up = rotation.T @ np.array([0.0, 0.0, 1.0])
-        z = np.asarray(oriented.vertices)[:, 2]
-        return {
-            "oriented": _view_payload(oriented.vertices, oriented.faces),
-            "prepared": _view_payload(rest.vertices, rest.faces),
-            "z_min": float(z.min()),
-            "z_max": float(z.max()),
-            "found_up": [round(float(x), 6) for x in found_up],
-            "steps": [
-                {
-                    "name": s.name,
-                    "vertices_before": s.vertices_before,
-                    "vertices_after": s.vertices_after,
-                    "faces_before": s.faces_before,
-                    "faces_after": s.faces_after,
-                    "warnings": list(s.warnings),
-                }
-                for s in (*oriented.steps, *rest.steps)
-            ],
-            "warnings": [*oriented.warnings, *rest.warnings],
-            "label": protocol.label,
-            "display_faces": min(len(rest.faces), VIEW_FACES),
-        }
+        return preview(self.mesh(relative), relative, protocol_from_json(data))
 
     # -- runs -----------------------------------------------------------------------------------
 
@@ -461,18 +449,25 @@ class Workspace:
             text = json.dumps(options.to_json())
             atomic_write(self._out(".app", "run.json"), lambda s: s.write(text))
             self.set_prepares(options.prepare)
-            self.run_files = files
-            self._finished = {}
-            self.run = Job(commands, self.root, after=self._group_done).start()
-        return self.run_state()
+            stale = self._journal_rows()  # an earlier run's, killed: the command folds it in
+            rows = [*self._table_rows(), *stale]
+            before = {r.get("file"): r for r in rows}
 
-    def _group_done(self, index: int, code: int) -> None:
-        rows = self._table_rows()
-        command = self.run.commands[index] if self.run else []
-        group = set(command[command.index("--") + 1 :]) if "--" in command else set()
-        for row in rows:
-            if row.get("file") in group:
-                self._finished[row["file"]] = row
+            def settings_of(protocol):
+                return make_settings(metrics=options.metrics, prepare=protocol, **options.ariadne())
+
+            progress = RunProgress(files, resumed_rows(self.root, groups, rows, settings_of), stale)
+
+            def done(index: int, code: int) -> None:  # a command ended: its rows are the table's
+                group = set(commands[index][commands[index].index("--") + 1 :])
+                table = [r for r in self._table_rows() if r.get("file") in group]
+                if code not in (0, 1):  # stopped: the rows of files not reached are old ones
+                    table = [r for r in table if before.get(r["file"]) != r]
+                progress.see(table, final=True)
+
+            self.progress = progress
+            self.run = Job(commands, self.root, after=done).start()
+        return self.run_state()
 
     def cancel_run(self) -> dict:
         if self.run is not None:
@@ -480,47 +475,21 @@ class Workspace:
         return self.run_state()
 
     def run_state(self) -> dict:
-        job = self.run
-        if job is None:
+        """The run as the page shows it (:class:`._progress.RunProgress`: never going back)."""
+        job, progress = self.run, self.progress
+        if job is None or progress is None:
+            idle = {"run": 0, "serial": 0, "state": "idle", "total": 0, "done": 0}
             return {
-                "state": "idle",
-                "total": 0,
-                "done": 0,
+                **idle,
+                "compiling": None,
                 "files": {},
                 "log": [],
                 "exit_code": None,
                 "command": "",
             }
-        finished = dict(self._finished)
         if job.running():
-            for row in self._journal_rows():
-                finished[row.get("file")] = row
-        files = {}
-        for relative in self.run_files:
-            row = finished.get(relative)
-            if row is None:
-                files[relative] = {
-                    "status": "waiting",
-                    "error": None,
-                    "warnings": None,
-                    "seconds": None,
-                }
-            else:
-                files[relative] = {
-                    "status": row.get("status"),
-                    "error": row.get("error"),
-                    "warnings": row.get("warnings"),
-                    "seconds": row.get("seconds"),
-                }
-        return {
-            "state": job.state,
-            "total": len(self.run_files),
-            "done": sum(1 for f in files.values() if f["status"] != "waiting"),
-            "files": files,
-            "log": list(job.log),
-            "exit_code": job.exit_code,
-            "command": job.command,
-        }
+            progress.see(self._journal_rows())
+        return progress.state(job)
 
     def _journal_rows(self) -> list[dict]:
         try:
@@ -567,12 +536,11 @@ class Workspace:
 
     # -- maps, the report, the prepared meshes: the command, in the background -----------------
 
-    def map_picture(self, relative, name) -> str | Job:
-        """The PNG of a mesh's map (its path), or the job drawing it."""
+    def map_picture(self, relative, name) -> str | Drawing:
+        """The PNG of a mesh's map (its path), or the drawing of it by the picture worker."""
         if name not in MAPS:
             raise AppError(f"map must be one of {', '.join(MAPS)}")
         entry = self.mesh(relative)
-        metric, color_by = MAPS[name]
         options = self.last_options()
         protocol, protocol_path = self.protocol_for(relative) if options.prepare else (None, None)
         key = json.dumps(
@@ -588,18 +556,20 @@ class Workspace:
         if os.path.exists(target):
             return target
         with self._lock:
-            job = self.pictures.get(target)
-            if job is not None and (job.running() or job.state == "failed"):
-                return job
+            drawing = self.pictures.get(target)
+            if drawing is not None and drawing.running():
+                return drawing
+            if drawing is not None and drawing.state == "failed":
+                if drawing.retry:  # the worker died under it: said once, drawn anew when asked
+                    del self.pictures[target]
+                return drawing
             os.makedirs(os.path.dirname(target), exist_ok=True)
-            arguments = [*options.arguments(), "--quiet"]
-            arguments[arguments.index("--metrics") + 1] = metric
-            arguments += ["--color-by", color_by, "--screenshot", target, "--size", "900,760"]
-            if protocol_path is not None:
-                arguments += ["--prepare", protocol_path]
-            job = Job([[*arguments, "--", relative]], self.root).start()
-            self.pictures[target] = job
-            return job
+            request = map_request(
+                self.root, relative, name, options.to_json(), protocol_path, target
+            )
+            drawing = self.drawer.submit(Drawing(target, request))
+            self.pictures[target] = drawing
+            return drawing
 
     def start_report(self) -> dict:
         with self._lock:
@@ -697,7 +667,8 @@ class Workspace:
     def close(self) -> None:
         """Stop the background work: a run writes the rows it finished."""
         self.folder.close()
-        for job in (self.run, self.report, self.export, *self.pictures.values()):
+        self.drawer.close()
+        for job in (self.run, self.report, self.export):
             if job is not None and job.running():
                 job.stop()
 
@@ -745,25 +716,6 @@ def _column_order() -> list[str]:
     return list(dict.fromkeys(order + list(COLUMNS)))
 
 
-def prepared_in_two(mesh, protocol: Protocol):
-    """(the mesh cleaned and oriented, then the rest of `protocol` run on that).
-
-    The first is what the crop slider is drawn on; the second is the mesh
-    ``dentopo.prepare(mesh, protocol)`` makes, to the bit (the steps run in a fixed
-    order, each on what the one before made; tests/test_app_parts.py checks it),
-    without cleaning and orienting twice (1.2 s of a 1M-face scan's 2.8 s).
-    """
-    from ..prepare import prepare
-
-    placing = {"clean": protocol.clean, "keep": protocol.keep, "orient": protocol.orient}
-    placing.update(up=protocol.up, spin=protocol.spin)
-    oriented = prepare(mesh, Protocol(**placing))
-    rest = prepare(
-        oriented.mesh, protocol.replace(clean=False, orient="none", up=None, spin="none")
-    )
-    return oriented, rest
-
-
 def _job_state(job: Job | None, url: str, exists: bool) -> dict:
     if job is None:
         return {"state": "done" if exists else "idle", "url": url if exists else None, "log": []}
@@ -785,11 +737,9 @@ def _json_row(row: dict) -> dict:
     return out
 
 
-def _view_payload(vertices, faces) -> dict:
-    from ..figures import color_scale
-
-    vertices, faces = simplified(vertices, faces, VIEW_FACES)
-    return pack_mesh(vertices, faces, np.zeros(len(vertices)), color_scale(limits=(-1.0, 1.0)))
+def _relative_inside(root: str, path: str) -> str | None:
+    """`path` relative to `root` if it lies below it (the page's field), else None."""
+    return relative_to(root, path) if os.path.commonpath([root, path]) == root != path else None
 
 
 def _version() -> str:

@@ -23,9 +23,10 @@ examples:
   dentopo app scans/ --no-browser --port 8800
   dentopo app scans/ --output results/   # write somewhere else than scans/dentopo-app
 
-Everything the app writes goes into the output folder (default FOLDER/dentopo-app): the
-results table (results.csv, as the command writes it), protocols, pictures, the report and
-the prepared meshes.  Reopening the folder shows what is done.
+Everything the app writes goes into the output folder (default FOLDER/dentopo-app; --output
+chooses it at start, the page another folder inside FOLDER): the results table (results.csv,
+as the command writes it), protocols, pictures, the report and the prepared meshes.
+Reopening the folder shows what is done.
 """
 
 

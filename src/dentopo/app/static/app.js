@@ -948,13 +948,20 @@ $("cancel").addEventListener("click", guarded(async () => {
 
 const ACTIVE = new Set(["running", "cancelling"]);
 
+/** Whether `run` is older than the run state drawn (two answers can cross on the way). */
+function olderRun(run, was) {
+  if (!was || run.run !== was.run) return false;
+  return (Number(run.serial) || 0) < (Number(was.serial) || 0);
+}
+
 function drawRun(run) {
-  if (!run) return;
+  if (!run || olderRun(run, app.run)) return;  // the progress never runs backwards
   const was = app.run;
   app.run = run;
   const active = ACTIVE.has(run.state);
   $("run").disabled = active;
   $("cancel").disabled = run.state !== "running";
+  $("output-change").disabled = active;
   const total = Number(run.total) || 0, done = Number(run.done) || 0;
   const progress = $("progress");
   progress.dataset.state = run.state;
@@ -962,6 +969,14 @@ function drawRun(run) {
   progress.setAttribute("aria-valuenow", String(done));
   progress.querySelector(".fill").style.width = (total ? (100 * done) / total : 0) + "%";
   progress.querySelector(".progress-text").textContent = done + " / " + total;
+  // a fresh install's first run compiles the kernels first: said here, not only in the log
+  const compiling = active && run.compiling ? run.compiling : null;
+  const note = progress.querySelector(".progress-note");
+  note.hidden = !compiling;
+  note.textContent = compiling
+    ? compiling.message + " \u00b7 " + (Number(compiling.seconds) || 0) + " s so far"
+    : "";
+  progress.dataset.phase = compiling ? "compiling" : "";
   const words = {
     idle: "", running: "running\u2026", cancelling: "cancelling\u2026", done: "done",
     cancelled: "cancelled", failed: "failed",
@@ -1143,7 +1158,7 @@ async function showMaps(file) {
   });
   $("maps").replaceChildren(...maps.map((m) => m.figure));
   $("maps-box").scrollIntoView({ block: "nearest" });
-  // one after the other: each picture is a command run in the background
+  // one after the other, as the picture worker draws them
   for (const m of maps) {
     if (serial !== mapSerial) return;
     m.caption.textContent = m.label + ": drawing\u2026";
@@ -1222,16 +1237,42 @@ $("export-prepared").addEventListener("click", guarded(async () => {
   }
 }));
 
+// ---------------------------------------------------------------------------------------------
+// the output folder
+
+function drawOutput(state) {
+  $("output-where").textContent = state.output || "";
+  $("output-root").textContent = state.folder || "";
+  $("output-change").disabled = Boolean(app.run && ACTIVE.has(app.run.state));
+  if ($("output-form").hidden) $("output-folder").value = state.output_relative || "";
+}
+$("output-change").addEventListener("click", () => {
+  $("output-form").hidden = false;
+  $("output-folder").focus();
+});
+$("output-cancel").addEventListener("click", () => { $("output-form").hidden = true; });
+$("output-form").addEventListener("submit", guarded(async (event) => {
+  event.preventDefault();
+  $("output-use").disabled = true;
+  try {
+    const state = await postJSON("/api/output", { output: $("output-folder").value });
+    $("output-form").hidden = true;
+    drawState(state);
+    await loadResults();
+    await followPending(state);
+  } finally {
+    $("output-use").disabled = false;
+  }
+}));
+
 function drawExport(state) {
   const hasResults = Boolean(state.results);
   for (const id of ["export-csv", "export-tsv", "export-xlsx"]) {
     $(id).classList.toggle("disabled", !hasResults);
     $(id).title = hasResults ? "" : "no results yet";
   }
-  if (state.report && $("report-link").hidden) {
-    $("report-link").href = "/output/report.html";
-    $("report-link").hidden = false;
-  }
+  if (state.report && $("report-link").hidden) $("report-link").href = "/output/report.html";
+  $("report-link").hidden = !state.report;  // (another output folder may have none)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1245,10 +1286,22 @@ function drawState(state) {
   if (app.selected) drawSelectedHeader();
   drawMeasureChoices(state);
   drawRunPlan();
+  drawOutput(state);
   drawExport(state);
   if (state.run) {
     drawRun(state.run);
     if (ACTIVE.has(state.run.state)) pollRun();
+  }
+}
+
+/** Ask for the state every second while meshes are being read (each drawn). */
+async function followPending(state) {
+  let current = state;
+  while (current.pending) {
+    await sleep(1000);
+    await visible();  // a hidden tab asks for nothing
+    current = await getJSON("/api/state");
+    drawState(current);
   }
 }
 
@@ -1258,13 +1311,7 @@ async function start() {
     drawState(state);
     statusBox.dataset.ready = "1";
     if (state.results) await loadResults();
-    let current = state;
-    while (current.pending) {
-      await sleep(1000);
-      await visible();  // a hidden tab asks for nothing
-      current = await getJSON("/api/state");
-      drawState(current);
-    }
+    await followPending(state);
   } catch (error) {
     showError(error);
     if (!(error instanceof ApiError)) noteError(error && error.message ? error.message : error);
