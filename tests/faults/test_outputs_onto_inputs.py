@@ -154,7 +154,7 @@ def test_an_all_partial_run_replaces_the_old_table_with_its_rows(tmp_path, table
     ran = dentopo(str(mesh), "--metrics", "ariadne,rfi", "--alpha", "0.01", "-o", str(table))
     assert ran.returncode == 1, ran.describe()
     assert "no mesh was computed" not in ran.stderr, ran.describe()
-    assert "wrote 1 rows" in ran.stderr and "1 partial" in ran.stderr, ran.describe()
+    assert "wrote 1 row to" in ran.stderr and "1 partial" in ran.stderr, ran.describe()
     after = rows(table)["normal.ply"]
     assert after["status"] == "partial" and "alpha adjustment required" in after["error"]
     assert after["dne"] == before["dne"]  # the metric that succeeded is kept

@@ -342,8 +342,8 @@ def test_a_journal_says_what_it_is_and_one_of_the_earlier_version_still_reads(tm
     assert len(read_journal(tmp_path / "out.csv.partial.jsonl")[0]) == 1
     ran = dentopo(str(mesh), "-o", str(out), "--resume")
     assert ran.returncode == 0, ran.describe()
-    assert "added 1 rows of an earlier run" in ran.stderr
-    assert "1 unreadable line(s) skipped (cut short by a kill)" in ran.stderr
+    assert "added 1 row of an earlier run" in ran.stderr
+    assert "1 unreadable line skipped (cut short by a kill)" in ran.stderr
     assert not (tmp_path / "out.csv.partial.jsonl").exists()
 
 
