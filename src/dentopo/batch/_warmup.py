@@ -207,9 +207,9 @@ def _stamp_path(metric: str, settings: Settings, fingerprint: str) -> str:
     return os.path.join(_stamp_root(), "dentopo-warm", name)
 
 
-def missing_metrics(settings: Settings) -> tuple[str, ...]:
+def missing_metrics(settings: Settings, fingerprint: str | None = None) -> tuple[str, ...]:
     """The metrics of `settings` whose kernels have no stamp (not yet compiled here)."""
-    fingerprint = _fingerprint()
+    fingerprint = _fingerprint() if fingerprint is None else fingerprint
     return tuple(
         m for m in settings.metrics if not os.path.exists(_stamp_path(m, settings, fingerprint))
     )
@@ -298,7 +298,8 @@ def warm_up(settings: Settings, *, jobs: int = 1, force: bool = False) -> WarmUp
     compiles what it ran.
     """
     started = time.perf_counter()
-    missing = settings.metrics if force else missing_metrics(settings)
+    fingerprint = _fingerprint()  # of the sources compiled, not of any changed meanwhile
+    missing = settings.metrics if force else missing_metrics(settings, fingerprint)
     if not missing:
         return WarmUp(0.0, time.perf_counter() - started, 0, kernel_cache())
     groups = metric_groups(missing, jobs)
@@ -308,7 +309,6 @@ def warm_up(settings: Settings, *, jobs: int = 1, force: bool = False) -> WarmUp
         with ProcessPoolExecutor(len(groups), mp_context=get_context("spawn")) as pool:
             calls = [replace(settings, metrics=g) for g in groups]
             compiled = sum(pool.map(_compute_in_worker, calls))
-    fingerprint = _fingerprint()
     for metric in missing:
         path = _stamp_path(metric, settings, fingerprint)
         try:
