@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dentopo.ariadne._kernel import euclidean_moments, exp_table, kernel_radius
+from dentopo.ariadne._kernel import euclidean_moments, kernel_radius
 
 
 def brute_force(points, bandwidth, cutoff):
@@ -38,16 +38,35 @@ def test_kernel_sums_equal_brute_force(bandwidth, cutoff):
     np.testing.assert_array_equal(moments.count, count)
 
 
-def test_inline_exponential_is_within_a_few_ulps():
-    """The kernel's table-times-polynomial exponential against libm, over its whole range."""
-    steps = 16
-    t = np.linspace(0.0, 37.3, 400_001)
-    table = exp_table(37.3)
-    m = np.floor(t * steps)
-    r = (m - t * steps) / steps
-    poly = sum(r**k / np.prod(np.arange(1, k + 1)) for k in range(11))
-    ours = table[m.astype(int)] * poly
-    assert np.max(np.abs(ours / np.exp(-t) - 1)) < 5e-16
+def _inline_exponential(t):
+    from numba import njit
+
+    from dentopo.ariadne._exp import exp_neg
+
+    @njit
+    def each(t, out):
+        for i in range(t.shape[0]):
+            out[i] = exp_neg(t[i])
+
+    out = np.empty_like(t)
+    each(t, out)
+    return out
+
+
+def test_inline_exponential_is_within_two_ulps_of_libm():
+    """The kernels' inline exp(-t) against libm's, over every t a weight can have."""
+    t = np.concatenate([np.linspace(0.0, 37.3, 400_001), np.linspace(37.3, 708.0, 400_001)])
+    t = np.concatenate([t, np.random.default_rng(0).uniform(0, 708, 200_000), [0.5 * np.log(2)]])
+    ours, libm = _inline_exponential(t), np.exp(-t)
+    assert np.max(np.abs(ours - libm) / np.spacing(libm)) <= 2
+    assert _inline_exponential(np.array([0.0]))[0] == 1.0
+
+
+def test_inline_exponential_beyond_its_range_is_tiny_and_never_nan():
+    t = np.array([708.0, 709.0, 745.0, 1e300, np.inf, np.nan])
+    ours = _inline_exponential(t)
+    assert np.all(ours == np.exp(-708.0))  # 3.3e-308: the smallest it gives
+    assert np.all(ours > 0) and np.all(np.isfinite(ours))
 
 
 def test_kernel_sums_with_a_stray_point_equal_brute_force():
@@ -161,14 +180,6 @@ def test_paired_kernel_with_far_apart_clusters_equals_brute_force():
     np.testing.assert_allclose(moments.first, first, rtol=1e-12, atol=1e-15 * np.abs(first).max())
     np.testing.assert_allclose(moments.second, second, rtol=1e-12, atol=1e-15 * second.max())
     np.testing.assert_array_equal(moments.count, count)
-
-
-def test_kernel_table_is_the_inline_exponential_table():
-    from dentopo.ariadne import _kernel
-
-    table = exp_table(kernel_radius(1.0, 5e-324) ** 2)
-    assert len(_kernel.EXP_TABLE) >= len(table)
-    np.testing.assert_array_equal(_kernel.EXP_TABLE[: len(table)], table)
 
 
 def test_kernel_sums_with_uneven_work_equal_brute_force():

@@ -33,6 +33,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from .._jit import njit, prange
 from ..mesh import spatial_order
+from ._exp import exp_neg
 from ._parameters import check_bandwidth, check_cutoff
 
 #: With cutoff 0, weights beyond this many bandwidths are below 1e-16 of the
@@ -98,17 +99,6 @@ def _empty(n):
     return [np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros(n, dtype=np.int64)]
 
 
-#: The inline exponential splits ``exp(-t)`` as ``exp(-m / STEPS) * exp(r)`` with
-#: integer ``m`` and ``-1 / STEPS < r <= 0``: a table lookup times a short polynomial.
-EXP_TABLE_STEPS = 16
-
-
-def exp_table(largest_exponent: float) -> np.ndarray:
-    """``exp(-m / EXP_TABLE_STEPS)`` for every ``m`` the kernel can need (correctly rounded)."""
-    size = int(np.ceil(largest_exponent * EXP_TABLE_STEPS)) + 2
-    return np.exp(-np.arange(size) / EXP_TABLE_STEPS)
-
-
 #: Vertices per block: rows and candidate runs are built from Morton-ordered blocks.
 BLOCK_POINTS = 64
 
@@ -166,18 +156,15 @@ def _run_sums(
     inv_h2,
     cutoff,
     radius2,
-    table,
     parts,
     out,
     count,
 ):
     """Kernel sums for vertices ``parts[0]`` to ``parts[-1] - 1`` over the runs of their block.
 
-    The weight ``exp(-d2 / h2)`` is computed inline as ``table[m] * P(r)`` (see
-    ``EXP_TABLE_STEPS``; ``P`` is the degree-10 Taylor polynomial in Estrin's
-    form, truncation below 1e-21, so the weight is within a couple of ulps of
-    libm's ``exp``), which LLVM vectorises, unlike a call to ``exp``.  Pairs
-    beyond the radius or with weight ``<= cutoff`` get weight zero.
+    The weight ``exp(-d2 / h2)`` is computed inline by ``_exp.exp_neg`` (within
+    2 ulps of libm's ``exp``), which LLVM vectorises, unlike a call to ``exp``.
+    Pairs beyond the radius or with weight ``<= cutoff`` get weight zero.
 
     The sums go to ``out[i]`` (weight, first moment, then the second moment's
     xx, xy, xz, yy, yz, zz) and the number of neighbours to ``count[i]``:
@@ -190,9 +177,6 @@ def _run_sums(
     (and Python then reacts to Ctrl-C between slices).  Thread ``k`` computes
     the vertices ``parts[k]`` to ``parts[k + 1] - 1``.
     """
-    t_max = (table.shape[0] - 2) * 1.0
-    scale = inv_h2 * EXP_TABLE_STEPS
-    step = 1.0 / EXP_TABLE_STEPS
     # one part of rows per thread, of about equal work: numba would give each thread
     # an equal number of rows (parallel_chunksize does not balance them either)
     for part in prange(parts.shape[0] - 1):
@@ -221,16 +205,7 @@ def _run_sums(
                     dy = yr[j] - yi
                     dz = zr[j] - zi
                     d2 = dx * dx + dy * dy + dz * dz
-                    t = d2 * scale
-                    t = t if t < t_max else t_max  # NaN (0 * inf) too: never outside the table
-                    mf = np.floor(t)
-                    r = (mf - t) * step
-                    r2 = r * r
-                    r4 = r2 * r2
-                    q0 = (1.0 + r) + (1 / 2 + r * (1 / 6)) * r2
-                    q1 = (1 / 24 + r * (1 / 120)) + (1 / 720 + r * (1 / 5040)) * r2
-                    q2 = (1 / 40320 + r * (1 / 362880)) + (1 / 3628800) * r2
-                    w = table[np.int32(mf)] * (q0 + (q1 + q2 * r4) * r4)
+                    w = exp_neg(d2 * inv_h2)
                     keep = (d2 <= radius2) and (w > cutoff)
                     w = w if keep else 0.0
                     rk += 1.0 if keep else 0.0
@@ -288,27 +263,6 @@ PAIRED_VERTICES = 40_000
 #: that does not depend on the threads, so neither do the sums).
 PAIRED_TASKS = 16
 
-#: ``exp(-m / EXP_TABLE_STEPS)`` up to the largest exponent any cutoff can need
-#: (``-ln`` of the smallest positive double is 744.4).  A module constant, which numba
-#: compiles in as read-only data: LLVM then knows that the kernel's stores cannot change
-#: it, and vectorises the loop that both looks it up and adds to the neighbours' sums.
-EXP_TABLE = exp_table(745.0)
-
-
-@njit(inline="always", fastmath=True)
-def _weight(d2, scale, step, t_max):
-    """``exp(-d2 / h**2)`` as ``EXP_TABLE[m] * P(r)``, as in ``_run_sums``."""
-    t = d2 * scale
-    t = t if t < t_max else t_max  # NaN (0 * inf) too: never outside the table
-    mf = np.floor(t)
-    r = (mf - t) * step
-    r2 = r * r
-    r4 = r2 * r2
-    q0 = (1.0 + r) + (1 / 2 + r * (1 / 6)) * r2
-    q1 = (1 / 24 + r * (1 / 120)) + (1 / 720 + r * (1 / 5040)) * r2
-    q2 = (1 / 40320 + r * (1 / 362880)) + (1 / 3628800) * r2
-    return EXP_TABLE[np.int32(mf)] * (q0 + (q1 + q2 * r4) * r4)
-
 
 @njit(fastmath=True)
 def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows, cols, off):
@@ -318,7 +272,7 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
     for ``i`` into ``rows[:, i]``, and added to ``cols[:, j - off]`` (the first
     moment with the opposite sign: it is relative to ``j``).
     """
-    scale, step, t_max, cutoff, radius2 = consts
+    inv_h2, cutoff, radius2 = consts
     xi = xs[i]
     yi = ys[i]
     zi = zs[i]
@@ -355,7 +309,7 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
             dy = yr[j] - yi
             dz = zr[j] - zi
             d2 = dx * dx + dy * dy + dz * dz
-            w = _weight(d2, scale, step, t_max)
+            w = exp_neg(d2 * inv_h2)
             keep = (d2 <= radius2) and (w > cutoff)
             w = w if keep else 0.0
             k = 1.0 if keep else 0.0
@@ -431,14 +385,13 @@ def _half_sums(
     inv_h2,
     cutoff,
     radius2,
-    t_max,
     rows,
     buffer,
 ):
     """Each pair ``i < j`` (Morton order) once: part `part` of `parts` of every task's rows.
 
     ``w_ij = w_ji`` (the same bits: so is the squared distance), so each pair's
-    weight is computed once (as in ``_run_sums``: ``EXP_TABLE[m] * P(r)``) and
+    weight is computed once (as in ``_run_sums``: ``_exp.exp_neg``) and
     its terms added to both vertices.  Task ``t`` owns the rows
     ``task_start[t]`` to ``task_start[t + 1] - 1``: their sums over ``j > i``
     go to ``rows[:, i]`` (with the vertex's own weight 1 first), and the terms
@@ -452,7 +405,7 @@ def _half_sums(
 
     Writes into ``rows`` and ``buffer`` and returns nothing (see ``_run_sums``).
     """
-    consts = (inv_h2 * EXP_TABLE_STEPS, 1.0 / EXP_TABLE_STEPS, t_max, cutoff, radius2)
+    consts = (inv_h2, cutoff, radius2)
     for task in prange(task_start.shape[0] - 1):
         off = col_offset[task]
         width = (buffer_start[task + 1] - buffer_start[task]) // 11
@@ -486,7 +439,7 @@ def _gather_sums(task_start, col_offset, buffer_start, buffer, rows):
                 target[j] += column[j]
 
 
-def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2, t_max):
+def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2):
     """``_half_sums`` and ``_gather_sums`` on Morton-ordered points: sums (11, n)."""
     run_ptr, run_start, run_end = runs
     n = len(xs)
@@ -537,7 +490,6 @@ def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2, t_ma
             inv_h2,
             cutoff,
             radius2,
-            t_max,
             rows,
             buffer,
         )
@@ -633,22 +585,20 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
     hi = np.maximum.reduceat(ordered, block_start[:-1], axis=0)
     run_ptr, run_start, run_end = candidate_runs(lo, hi, block_start, radius**2)
     xs, ys, zs = (np.ascontiguousarray(ordered[:, k]) for k in range(3))
-    table = exp_table(radius**2 / bandwidth**2)
     constants = (1.0 / bandwidth**2, float(cutoff), radius**2)
     moments = np.empty((n, 11))
     if n <= PAIRED_VERTICES:
         runs = (run_ptr, run_start, run_end)
-        t_max = float(len(table) - 2)
-        moments[order] = _paired_moments(xs, ys, zs, block_start, runs, *constants, t_max).T
+        moments[order] = _paired_moments(xs, ys, zs, block_start, runs, *constants).T
     else:
         moments[order, :10], moments[order, 10] = _row_moments(
-            xs, ys, zs, block_start, run_ptr, run_start, run_end, constants, table
+            xs, ys, zs, block_start, run_ptr, run_start, run_end, constants
         )
     second = moments[:, [4, 5, 6, 5, 7, 8, 6, 8, 9]].reshape(-1, 3, 3)
     return KernelMoments(moments[:, 0], moments[:, 1:4], second, moments[:, 10].astype(np.int64))
 
 
-def _row_moments(xs, ys, zs, block_start, run_ptr, run_start, run_end, constants, table):
+def _row_moments(xs, ys, zs, block_start, run_ptr, run_start, run_end, constants):
     """``_run_sums`` on Morton-ordered points: sums (n, 10) and counts (n,)."""
     n = len(xs)
     block_of = np.repeat(np.arange(len(block_start) - 1), np.diff(block_start))
@@ -664,9 +614,7 @@ def _row_moments(xs, ys, zs, block_start, run_ptr, run_start, run_end, constants
         reach * sizes, PAIRS_PER_CALL * threads, minimum=SLICE_BLOCKS * threads
     ):
         parts = balanced_parts(row_reach, block_start[first], block_start[stop], threads)
-        _run_sums(
-            xs, ys, zs, block_of, run_ptr, run_start, run_end, *constants, table, parts, sums, count
-        )
+        _run_sums(xs, ys, zs, block_of, run_ptr, run_start, run_end, *constants, parts, sums, count)
     return sums, count
 
 
