@@ -300,12 +300,14 @@ def _run_plans(finufft, kind, shape, coords, inputs, tolerance, nthreads):
 
     Single-threaded transforms are deterministic and independent of the thread
     count; ctypes releases the GIL while FINUFFT runs, so they run in parallel.
+    Type-2 transforms go to :func:`_interpolate`.
     """
-    isign = -1 if kind == 1 else 1
+    if kind == 2:
+        return _interpolate(finufft, shape, coords, inputs, tolerance, nthreads)
     shape = tuple(int(m) for m in shape)
 
     def run(data):
-        plan = finufft.Plan(kind, shape, n_trans=1, eps=tolerance, isign=isign, nthreads=1)
+        plan = finufft.Plan(kind, shape, n_trans=1, eps=tolerance, isign=-1, nthreads=1)
         plan.setpts(*coords)
         return plan.execute(data)
 
@@ -316,6 +318,44 @@ def _run_plans(finufft, kind, shape, coords, inputs, tolerance, nthreads):
 
     with ThreadPoolExecutor(max_workers=workers) as pool:
         return list(pool.map(run, inputs))
+
+
+#: Type-2 transforms cut their points into parts of at least this many, one per thread.
+MIN_INTERPOLATED = 50_000
+
+
+def _interpolate(finufft, shape, coords, spectra, tolerance, nthreads):
+    """Type-2 transforms of every spectrum at every point, the points cut among the threads.
+
+    FINUFFT's type 2 spreads the spectrum on its fine grid (independent of the
+    points) and then interpolates each point from that grid alone, in the same
+    order whichever other points its plan holds: each value has the same bits
+    however the points are cut (``tests/test_fastgauss.py`` checks it).  So
+    each thread takes a part of the points (one plan, its points sorted once)
+    through all the spectra: every thread busy to the end, where a transform
+    per thread left one idle for the last of five.
+    """
+    shape = tuple(int(m) for m in shape)
+    n = len(coords[0])
+    parts = max(1, min(int(nthreads), n // MIN_INTERPOLATED))
+    bounds = np.linspace(0, n, parts + 1).astype(np.int64)
+    values = [np.empty(n, dtype=np.complex128) for _ in spectra]
+
+    def run(first, stop):
+        plan = finufft.Plan(2, shape, n_trans=1, eps=tolerance, isign=1, nthreads=1)
+        plan.setpts(*(np.ascontiguousarray(c[first:stop]) for c in coords))
+        for spectrum, out in zip(spectra, values, strict=True):
+            out[first:stop] = plan.execute(spectrum)
+
+    if parts == 1:
+        run(0, n)
+        return values
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=parts) as pool:
+        for done in [pool.submit(run, a, b) for a, b in pairwise(bounds.tolist())]:
+            done.result()
+    return values
 
 
 #: From this many points on, the type-1 transform of ``_derivative_moments`` is
