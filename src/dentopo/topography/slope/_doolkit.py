@@ -34,6 +34,7 @@ import trimesh
 
 from ..._html_repr import result_html
 from ...mesh import as_arrays
+from .._lazy import LazyMesh, MeshLater
 from ..surface import _kernels
 from ..surface._molar import Surface, drop_unused, molar_face_areas
 from ..surface._orientation import TURN, Orientation, check_orient, find_orientation
@@ -161,6 +162,10 @@ class DoolkitMesh:
     def trimesh(self) -> trimesh.Trimesh:
         """The mesh measured, as a ``trimesh.Trimesh`` (faces as stored; a copy)."""
         return trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
+
+    def mesh_later(self) -> MeshLater:
+        """What :meth:`trimesh` gives, built when first read (a result's ``mesh``)."""
+        return MeshLater(self.vertices, self.faces)
 
     @cached_property
     def normals(self) -> np.ndarray:
@@ -342,7 +347,7 @@ class DoolkitSlopeResult:
     vertices: int
     faces: int
     face_slope: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
 
     def to_dict(self) -> dict:
         """The table field: ``{"slope_mean": ...}``."""
@@ -377,7 +382,7 @@ class InclinationResult:
     vertices: int
     faces: int
     face_inclination: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
@@ -438,7 +443,7 @@ def doolkit_slope(mesh) -> DoolkitSlopeResult:
         vertices=len(dm.vertices),
         faces=len(dm.faces),
         face_slope=per_face.copy(),
-        mesh=dm.trimesh(),
+        mesh=dm.mesh_later(),
     )
 
 
@@ -490,6 +495,6 @@ def inclination(mesh, *, orient: str = "auto") -> InclinationResult:
         vertices=len(dm.vertices),
         faces=len(dm.faces),
         face_inclination=per_face.copy(),
-        mesh=dm.trimesh(),
+        mesh=dm.mesh_later(),
         orientation=dm.orientation,
     )

@@ -25,6 +25,7 @@ import numpy as np
 import trimesh
 
 from ...mesh import as_arrays
+from .._lazy import MeshLater
 from .._parameters import check_choice
 from . import _kernels
 from ._orientation import TURN, Orientation, check_orient, survey
@@ -117,6 +118,10 @@ class Surface:
     def trimesh(self) -> trimesh.Trimesh:
         """The cleaned mesh as a ``trimesh.Trimesh`` (not processed: faces as stored; a copy)."""
         return trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
+
+    def mesh_later(self) -> MeshLater:
+        """What :meth:`trimesh` gives, built when first read (a result's ``mesh``)."""
+        return MeshLater(self.vertices, self.faces)
 
     @property
     def _owner(self) -> Surface:
