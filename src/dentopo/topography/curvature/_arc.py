@@ -288,7 +288,7 @@ def arc(mesh, *, boundary: str = "vertex", range=(0.01, 0.99)) -> ARCResult:
     values = _face_curvature(scaled32, faces) / (HEMISPHERE / math.sqrt(total))
     at_border = _vcg.border_faces(surface, rule)
     values[at_border] = 0.0
-    low, high = _vcg.quantile7(values, lower), _vcg.quantile7(values, upper)
+    low, high = _vcg.quantiles7(values, (lower, upper))
     cut = (values < low) | (values > high)
     values[cut] = 0.0
     mean, pos, neg = _means(values)
@@ -381,7 +381,7 @@ def doolkit_arc(mesh, *, range=(0.01, 0.99)) -> DoolkitARCResult:
     at_border = _vcg.border_faces(surface, "vertex")
     values[at_border] = 0.0
     if quantiles:
-        low, high = _vcg.quantile7(values, lower), _vcg.quantile7(values, upper)
+        low, high = _vcg.quantiles7(values, (lower, upper))
         clipped = (values < low) | (values > high)
         values = np.clip(values, low, high)
     total = float(surface.single_precision_areas().sum())
