@@ -159,3 +159,23 @@ def test_the_scale_check_without_the_median():
 def test_arc_on_a_plane_still_zeroes_its_border():
     result = arc(plane_patch(15))
     assert result.boundary_faces > 0 and result.arc == pytest.approx(0.0, abs=1e-4)
+
+
+def test_doolkit_normals_and_slopes_are_numpys_bit_for_bit(normal):
+    from dentopo.topography.slope._doolkit import doolkit_mesh, face_slope
+
+    dm = doolkit_mesh(normal)
+    cross = np.empty((len(dm.faces), 3))
+    norm = np.empty(len(dm.faces))
+    _kernels.face_cross_norm(
+        _kernels.readonly(dm.vertices), _kernels.readonly(dm.faces), cross, norm
+    )
+    expected = cross / np.where(norm > 0, norm, 1.0)[:, None]
+    assert np.array_equal(dm.normals, expected)
+    normals = np.vstack([expected, np.zeros((1, 3)), [[0.0, 0.0, -1.0]], [[1.0, 0.0, 0.0]]])
+    horizontal = normals[:, 0] ** 2 + normals[:, 1] ** 2
+    with np.errstate(invalid="ignore"):
+        ratio = np.sqrt(horizontal) / np.sqrt(horizontal + normals[:, 2] ** 2)
+    got = face_slope(normals)
+    assert np.array_equal(got, 90.0 - np.arccos(ratio) * (180.0 / np.pi), equal_nan=True)
+    assert np.isnan(got[-3]) and got[-2] == 0.0 and got[-1] == 90.0

@@ -170,12 +170,10 @@ class DoolkitMesh:
     @cached_property
     def normals(self) -> np.ndarray:
         """(m, 3) unit face normals as ``Morpho::facenormals`` (double; zero stays zero)."""
-        cross = np.empty((len(self.faces), 3))
-        norm = np.empty(len(self.faces))
+        normals = np.empty((len(self.faces), 3))
         readonly = _kernels.readonly
-        _kernels.face_cross_norm(readonly(self.vertices), readonly(self.faces), cross, norm)
-        safe = np.where(norm > 0, norm, 1.0)
-        return cross / safe[:, None]
+        _kernels.unit_normals(readonly(self.vertices), readonly(self.faces), normals)
+        return normals
 
     @cached_property
     def slope(self) -> np.ndarray:
@@ -265,7 +263,8 @@ def _from_surface(surface: Surface, orient: str | None) -> DoolkitMesh:
     if orient is not None:
         surface = surface.oriented(orient)
     vertices = surface.vertices.astype(np.float32).astype(np.float64)
-    return DoolkitMesh(vertices, surface.faces.copy(), surface.orientation)
+    # the surface's faces are read-only already: shared, not copied
+    return DoolkitMesh(vertices, surface.faces, surface.orientation)
 
 
 # --- per-face angles ----------------------------------------------------------------------
@@ -273,9 +272,9 @@ def _from_surface(surface: Surface, orient: str | None) -> DoolkitMesh:
 
 def _horizontal_ratio(normals: np.ndarray) -> np.ndarray:
     """``sqrt(nx^2 + ny^2) / |n|``: NaN for a zero normal (never above 1)."""
-    horizontal = normals[:, 0] ** 2 + normals[:, 1] ** 2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.sqrt(horizontal) / np.sqrt(horizontal + normals[:, 2] ** 2)
+    ratio = np.empty(len(normals))
+    _kernels.horizontal_ratio(_kernels.readonly(np.ascontiguousarray(normals)), ratio)
+    return ratio
 
 
 def face_slope(normals: np.ndarray) -> np.ndarray:

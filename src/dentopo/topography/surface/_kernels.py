@@ -50,6 +50,38 @@ def face_cross_norm(vertices, faces, cross, norm):
 
 
 @njit(cache=True)
+def unit_normals(vertices, faces, normals):
+    """Unit face normals as ``Morpho::facenormals``: a zero normal stays zero.
+
+    The numbers of ``cross / np.where(norm > 0, norm, 1.0)[:, None]`` with
+    ``cross`` and ``norm`` of :func:`face_cross_norm`, without the temporaries.
+    """
+    for f in range(faces.shape[0]):
+        i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
+        cx, cy, cz = corner_cross(vertices, i, j, k)
+        norm = math.sqrt(cx * cx + cy * cy + cz * cz)
+        if not norm > 0.0:
+            norm = 1.0
+        normals[f, 0] = cx / norm
+        normals[f, 1] = cy / norm
+        normals[f, 2] = cz / norm
+
+
+@njit(cache=True)
+def horizontal_ratio(normals, ratio):
+    """``sqrt(nx^2 + ny^2) / sqrt(nx^2 + ny^2 + nz^2)`` per row (NaN for a zero normal).
+
+    The numbers of the numpy expression in ``slope._doolkit._horizontal_ratio``.
+    """
+    for f in range(normals.shape[0]):
+        nx, ny, nz = normals[f, 0], normals[f, 1], normals[f, 2]
+        horizontal = nx * nx + ny * ny
+        length = math.sqrt(horizontal + nz * nz)
+        # 0 / 0 is numpy's NaN (numba would raise)
+        ratio[f] = math.nan if length == 0.0 else math.sqrt(horizontal) / length
+
+
+@njit(cache=True)
 def single_precision_areas(vertices32, faces, area):
     """Face areas in single precision, as molaR's reader computes them.
 
