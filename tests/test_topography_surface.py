@@ -50,7 +50,8 @@ CALLS = {
 def _fields(result) -> dict:
     """Every field of a result, arrays and the mesh's arrays included."""
     out = {}
-    for name, value in vars(result).items():
+    for name in vars(result):
+        value = getattr(result, name)  # a result's mesh is built when first read
         if isinstance(value, trimesh.Trimesh):
             out[name] = (np.asarray(value.vertices), np.asarray(value.faces))
         elif dataclasses.is_dataclass(value) and not isinstance(value, type):

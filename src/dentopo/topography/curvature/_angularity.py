@@ -19,6 +19,7 @@ import trimesh
 
 from ..._html_repr import result_html
 from ..._jit import njit
+from .._lazy import LazyMesh
 from ..surface import _vcg
 from ..surface._molar import prepare_surface
 
@@ -49,7 +50,7 @@ class AngularityResult:
     faces: int
     vertex_slope: np.ndarray = field(repr=False, compare=False)
     face_angularity: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
 
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``ANGULARITY_FIELDS``)."""
@@ -165,5 +166,5 @@ def angularity(mesh) -> AngularityResult:
         faces=len(faces),
         vertex_slope=vertex_slope,
         face_angularity=per_face,
-        mesh=surface.trimesh(),
+        mesh=surface.mesh_later(),
     )

@@ -22,6 +22,7 @@ import trimesh
 
 from ..._html_repr import result_html
 from .. import _units
+from .._lazy import LazyMesh
 from ..surface import _vcg
 from ..surface._molar import molar_face_areas, molar_scale, prepare_surface
 
@@ -80,7 +81,7 @@ class ARCResult:
     boundary_faces: int
     cut_faces: int
     face_arc: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
 
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``ARC_FIELDS``)."""
@@ -126,7 +127,7 @@ class DoolkitARCResult:
     border_faces: int
     clipped_faces: int
     face_arc: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
 
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``DOOLKIT_ARC_FIELDS``)."""
@@ -287,7 +288,7 @@ def arc(mesh, *, boundary: str = "vertex", range=(0.01, 0.99)) -> ARCResult:
     values = _face_curvature(scaled32, faces) / (HEMISPHERE / math.sqrt(total))
     at_border = _vcg.border_faces(surface, rule)
     values[at_border] = 0.0
-    low, high = _vcg.quantile7(values, lower), _vcg.quantile7(values, upper)
+    low, high = _vcg.quantiles7(values, (lower, upper))
     cut = (values < low) | (values > high)
     values[cut] = 0.0
     mean, pos, neg = _means(values)
@@ -302,7 +303,7 @@ def arc(mesh, *, boundary: str = "vertex", range=(0.01, 0.99)) -> ARCResult:
         boundary_faces=int(at_border.sum()),
         cut_faces=int((cut & ~at_border).sum()),
         face_arc=values,
-        mesh=surface.trimesh(),
+        mesh=surface.mesh_later(),
     )
 
 
@@ -380,7 +381,7 @@ def doolkit_arc(mesh, *, range=(0.01, 0.99)) -> DoolkitARCResult:
     at_border = _vcg.border_faces(surface, "vertex")
     values[at_border] = 0.0
     if quantiles:
-        low, high = _vcg.quantile7(values, lower), _vcg.quantile7(values, upper)
+        low, high = _vcg.quantiles7(values, (lower, upper))
         clipped = (values < low) | (values > high)
         values = np.clip(values, low, high)
     total = float(surface.single_precision_areas().sum())
@@ -399,5 +400,5 @@ def doolkit_arc(mesh, *, range=(0.01, 0.99)) -> DoolkitARCResult:
         border_faces=int(at_border.sum()),
         clipped_faces=int(clipped.sum()),
         face_arc=values,
-        mesh=surface.trimesh(),
+        mesh=surface.mesh_later(),
     )

@@ -19,6 +19,7 @@ import trimesh
 
 from ..._html_repr import result_html
 from ..._jit import njit
+from .._lazy import LazyMesh
 from ..surface import _vcg
 from ..surface._molar import prepare_surface
 
@@ -65,7 +66,7 @@ class DoolkitDNEResult:
     outlier_faces: int
     face_energy: np.ndarray = field(repr=False, compare=False)
     face_area: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
 
     def to_dict(self) -> dict:
         """The scalar table fields as a plain dict (``DOOLKIT_DNE_FIELDS``)."""
@@ -212,5 +213,5 @@ def doolkit_dne(mesh, *, range: float = 0.999) -> DoolkitDNEResult:
         outlier_faces=int((outlier & ~at_border).sum()),
         face_energy=energy,
         face_area=area,
-        mesh=surface.trimesh(),
+        mesh=surface.mesh_later(),
     )

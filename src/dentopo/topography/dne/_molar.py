@@ -18,6 +18,7 @@ import numpy as np
 import trimesh
 
 from ..._html_repr import result_html
+from .._lazy import LazyMesh
 from .._parameters import BOUNDARY_RULES, check_choice, check_outliers
 from ..surface import _kernels
 from ..surface._molar import Surface, molar_scale, prepare_surface
@@ -116,7 +117,7 @@ class ClassicDNEResult:
     face_dne: np.ndarray = field(repr=False, compare=False)
     face_kappa: np.ndarray = field(repr=False, compare=False)
     excluded: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     @property
@@ -413,6 +414,6 @@ def classic_dne(
         face_dne=face_dne,
         face_kappa=values,
         excluded=excluded,
-        mesh=surface.trimesh(),
+        mesh=surface.mesh_later(),
         orientation=surface.orientation,
     )

@@ -28,6 +28,7 @@ import trimesh
 
 from ..._html_repr import result_html
 from ..._jit import njit
+from .._lazy import LazyMesh
 from .._parameters import check_finite, check_int
 from ..slope._doolkit import DoolkitMesh, doolkit_mesh
 from ..surface._kernels import _find
@@ -222,7 +223,7 @@ class DoolkitOPCResult:
     patch_bin: np.ndarray = field(repr=False, compare=False)
     patch_faces: np.ndarray = field(repr=False, compare=False)
     patch_counted: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
@@ -333,7 +334,7 @@ def _opc_of(dm, pairs, bins, rotation, min_size, mesh) -> DoolkitOPCResult:
         patch_bin=patch_bin,
         patch_faces=patch_faces,
         patch_counted=counted,
-        mesh=dm.trimesh() if mesh is None else mesh,
+        mesh=dm.mesh_later() if mesh is None else mesh,
         orientation=dm.orientation,
     )
 

@@ -20,6 +20,7 @@ import numpy as np
 import trimesh
 
 from ..._html_repr import result_html
+from .._lazy import LazyMesh
 from .._metrics import rotation_key
 from .._metrics import rotations as opcr_rotations
 from .._parameters import check_finite, check_int, check_min_area, check_opcr_options
@@ -104,7 +105,7 @@ class OPCResult:
     patch_faces: np.ndarray = field(repr=False, compare=False)
     patch_area: np.ndarray = field(repr=False, compare=False)
     patch_counted: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
@@ -265,7 +266,7 @@ def _opc_of(
         patch_faces=patch_faces,
         patch_area=patch_area,
         patch_counted=counted,
-        mesh=surface.trimesh() if mesh is None else mesh,
+        mesh=surface.mesh_later() if mesh is None else mesh,
         orientation=surface.orientation,
     )
 
@@ -443,7 +444,7 @@ def opcr(
     surface = prepare_surface(mesh, orient=check_orient(orient))
     surface.warn_orientation()
     incidence = _Incidence(surface)
-    cleaned = surface.trimesh()
+    cleaned = surface.mesh_later()
     rotations = opcr_rotations(steps, step)
     results = [_opc_of(surface, incidence, r, min_faces, min_area, cleaned) for r in rotations]
     values = tuple(result.opc for result in results)

@@ -22,6 +22,7 @@ import trimesh
 
 from ..._html_repr import result_html
 from .. import _units
+from .._lazy import LazyMesh
 from ..footprint._doolkit import check_hull, footprint_result, rounding_text
 from ..slope._doolkit import DoolkitMesh, doolkit_mesh
 from ..surface._orientation import TURN, Orientation, check_orient
@@ -89,7 +90,7 @@ class ElevationResult:
     vertices: int
     faces: int
     face_elevation: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
@@ -144,7 +145,7 @@ class ReliefIndexResult:
     face_slope: np.ndarray = field(repr=False, compare=False)
     face_elevation: np.ndarray = field(repr=False, compare=False)
     face_area: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
@@ -318,7 +319,7 @@ def elevation(mesh, *, orient: str = "auto") -> ElevationResult:
         vertices=len(dm.vertices),
         faces=len(dm.faces),
         face_elevation=per_face.copy(),
-        mesh=dm.trimesh(),
+        mesh=dm.mesh_later(),
         orientation=dm.orientation,
     )
 
@@ -420,7 +421,7 @@ def relief_index(mesh, *, hull: str = "concave", orient: str = "auto") -> Relief
         face_slope=slope.copy(),
         face_elevation=elev.copy(),
         face_area=dm.areas.copy(),
-        mesh=dm.trimesh(),
+        mesh=dm.mesh_later(),
         orientation=dm.orientation,
     )
 

@@ -25,6 +25,7 @@ import numpy as np
 import trimesh
 
 from ..._html_repr import result_html
+from .._lazy import LazyMesh
 from .._parameters import check_alpha, check_find_alpha
 from ..footprint._alphahull import FAN_INSIDE, FAN_UNDEFINED, AlphaHull, Arcs, chain
 from ..surface._molar import molar_face_areas, molar_scale, prepare_surface
@@ -134,7 +135,7 @@ class RFIResult:
     vertices: int
     faces: int
     footprint: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
     warning: str | None = field(default=None, compare=False)
 
@@ -471,7 +472,7 @@ def rfi(mesh, *, alpha: float = 0.075, find_alpha: bool = False, orient: str = "
         vertices=len(vertices),
         faces=len(surface.faces),
         footprint=ends + footprint.mean[:2],
-        mesh=surface.trimesh(),
+        mesh=surface.mesh_later(),
         orientation=surface.orientation,
         warning=warning,
     )

@@ -34,6 +34,7 @@ import trimesh
 
 from ..._html_repr import result_html
 from ...mesh import as_arrays
+from .._lazy import LazyMesh, MeshLater
 from ..surface import _kernels
 from ..surface._molar import Surface, drop_unused, molar_face_areas
 from ..surface._orientation import TURN, Orientation, check_orient, find_orientation
@@ -162,15 +163,17 @@ class DoolkitMesh:
         """The mesh measured, as a ``trimesh.Trimesh`` (faces as stored; a copy)."""
         return trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
 
+    def mesh_later(self) -> MeshLater:
+        """What :meth:`trimesh` gives, built when first read (a result's ``mesh``)."""
+        return MeshLater(self.vertices, self.faces)
+
     @cached_property
     def normals(self) -> np.ndarray:
         """(m, 3) unit face normals as ``Morpho::facenormals`` (double; zero stays zero)."""
-        cross = np.empty((len(self.faces), 3))
-        norm = np.empty(len(self.faces))
+        normals = np.empty((len(self.faces), 3))
         readonly = _kernels.readonly
-        _kernels.face_cross_norm(readonly(self.vertices), readonly(self.faces), cross, norm)
-        safe = np.where(norm > 0, norm, 1.0)
-        return cross / safe[:, None]
+        _kernels.unit_normals(readonly(self.vertices), readonly(self.faces), normals)
+        return normals
 
     @cached_property
     def slope(self) -> np.ndarray:
@@ -260,7 +263,8 @@ def _from_surface(surface: Surface, orient: str | None) -> DoolkitMesh:
     if orient is not None:
         surface = surface.oriented(orient)
     vertices = surface.vertices.astype(np.float32).astype(np.float64)
-    return DoolkitMesh(vertices, surface.faces.copy(), surface.orientation)
+    # the surface's faces are read-only already: shared, not copied
+    return DoolkitMesh(vertices, surface.faces, surface.orientation)
 
 
 # --- per-face angles ----------------------------------------------------------------------
@@ -268,9 +272,9 @@ def _from_surface(surface: Surface, orient: str | None) -> DoolkitMesh:
 
 def _horizontal_ratio(normals: np.ndarray) -> np.ndarray:
     """``sqrt(nx^2 + ny^2) / |n|``: NaN for a zero normal (never above 1)."""
-    horizontal = normals[:, 0] ** 2 + normals[:, 1] ** 2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.sqrt(horizontal) / np.sqrt(horizontal + normals[:, 2] ** 2)
+    ratio = np.empty(len(normals))
+    _kernels.horizontal_ratio(_kernels.readonly(np.ascontiguousarray(normals)), ratio)
+    return ratio
 
 
 def face_slope(normals: np.ndarray) -> np.ndarray:
@@ -342,7 +346,7 @@ class DoolkitSlopeResult:
     vertices: int
     faces: int
     face_slope: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
 
     def to_dict(self) -> dict:
         """The table field: ``{"slope_mean": ...}``."""
@@ -377,7 +381,7 @@ class InclinationResult:
     vertices: int
     faces: int
     face_inclination: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
@@ -438,7 +442,7 @@ def doolkit_slope(mesh) -> DoolkitSlopeResult:
         vertices=len(dm.vertices),
         faces=len(dm.faces),
         face_slope=per_face.copy(),
-        mesh=dm.trimesh(),
+        mesh=dm.mesh_later(),
     )
 
 
@@ -490,6 +494,6 @@ def inclination(mesh, *, orient: str = "auto") -> InclinationResult:
         vertices=len(dm.vertices),
         faces=len(dm.faces),
         face_inclination=per_face.copy(),
-        mesh=dm.trimesh(),
+        mesh=dm.mesh_later(),
         orientation=dm.orientation,
     )

@@ -15,6 +15,7 @@ import numpy as np
 import trimesh
 
 from ..._html_repr import result_html
+from .._lazy import LazyMesh
 from ..surface import _kernels
 from ..surface._molar import prepare_surface
 from ..surface._orientation import Orientation, check_orient
@@ -57,7 +58,7 @@ class SlopeResult:
     faces: int
     face_slope: np.ndarray = field(repr=False, compare=False)
     face_area: np.ndarray = field(repr=False, compare=False)
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     orientation: Orientation | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
@@ -159,6 +160,6 @@ def _slope_of(surface) -> SlopeResult:
         faces=len(surface.faces),
         face_slope=per_face,
         face_area=area,
-        mesh=surface.trimesh(),
+        mesh=surface.mesh_later(),
         orientation=surface.orientation,
     )

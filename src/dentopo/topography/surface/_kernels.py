@@ -50,6 +50,38 @@ def face_cross_norm(vertices, faces, cross, norm):
 
 
 @njit(cache=True)
+def unit_normals(vertices, faces, normals):
+    """Unit face normals as ``Morpho::facenormals``: a zero normal stays zero.
+
+    The numbers of ``cross / np.where(norm > 0, norm, 1.0)[:, None]`` with
+    ``cross`` and ``norm`` of :func:`face_cross_norm`, without the temporaries.
+    """
+    for f in range(faces.shape[0]):
+        i, j, k = faces[f, 0], faces[f, 1], faces[f, 2]
+        cx, cy, cz = corner_cross(vertices, i, j, k)
+        norm = math.sqrt(cx * cx + cy * cy + cz * cz)
+        if not norm > 0.0:
+            norm = 1.0
+        normals[f, 0] = cx / norm
+        normals[f, 1] = cy / norm
+        normals[f, 2] = cz / norm
+
+
+@njit(cache=True)
+def horizontal_ratio(normals, ratio):
+    """``sqrt(nx^2 + ny^2) / sqrt(nx^2 + ny^2 + nz^2)`` per row (NaN for a zero normal).
+
+    The numbers of the numpy expression in ``slope._doolkit._horizontal_ratio``.
+    """
+    for f in range(normals.shape[0]):
+        nx, ny, nz = normals[f, 0], normals[f, 1], normals[f, 2]
+        horizontal = nx * nx + ny * ny
+        length = math.sqrt(horizontal + nz * nz)
+        # 0 / 0 is numpy's NaN (numba would raise)
+        ratio[f] = math.nan if length == 0.0 else math.sqrt(horizontal) / length
+
+
+@njit(cache=True)
 def single_precision_areas(vertices32, faces, area):
     """Face areas in single precision, as molaR's reader computes them.
 
@@ -134,6 +166,50 @@ def edge_groups(faces, n_vertices, group_start, group_edge):
             group_edge[place[o]] = edge[p]
             place[o] += 1
     return groups
+
+
+@njit(cache=True)
+def border_vertex_flags(faces, flags):
+    """Flag the two ends of every edge only one face uses (a border edge) in `flags`.
+
+    The vertices :func:`boundary_ends` gives, without grouping the edges: the
+    3m directed edges bucketed by their lower vertex (a counting sort), then
+    in each bucket every higher vertex seen once is a border edge's.  `flags`
+    (n slots) comes all False.
+    """
+    m = faces.shape[0]
+    n = flags.shape[0]
+    start = np.zeros(n + 1, dtype=np.int64)
+    for f in range(m):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        start[min(a, b) + 1] += 1
+        start[min(b, c) + 1] += 1
+        start[min(c, a) + 1] += 1
+    for v in range(n):
+        start[v + 1] += start[v]
+    fill = start[:-1].copy()
+    other = np.empty(3 * m, dtype=np.int64)
+    for f in range(m):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        for x, y in ((a, b), (b, c), (c, a)):
+            low = min(x, y)
+            other[fill[low]] = max(x, y)
+            fill[low] += 1
+    # fill is free again: the count of each higher vertex in the current bucket
+    stamp = np.full(n, -1, dtype=np.int64)
+    for v in range(n):
+        lo, hi = start[v], start[v + 1]
+        for p in range(lo, hi):
+            o = other[p]
+            if stamp[o] != v:
+                stamp[o] = v
+                fill[o] = 0
+            fill[o] += 1
+        for p in range(lo, hi):
+            o = other[p]
+            if fill[o] == 1:
+                flags[v] = True
+                flags[o] = True
 
 
 @njit(cache=True)

@@ -25,6 +25,7 @@ import numpy as np
 import trimesh
 
 from ...mesh import as_arrays
+from .._lazy import MeshLater
 from .._parameters import check_choice
 from . import _kernels
 from ._orientation import TURN, Orientation, check_orient, survey
@@ -117,6 +118,10 @@ class Surface:
     def trimesh(self) -> trimesh.Trimesh:
         """The cleaned mesh as a ``trimesh.Trimesh`` (not processed: faces as stored; a copy)."""
         return trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
+
+    def mesh_later(self) -> MeshLater:
+        """What :meth:`trimesh` gives, built when first read (a result's ``mesh``)."""
+        return MeshLater(self.vertices, self.faces)
 
     @property
     def _owner(self) -> Surface:
@@ -457,8 +462,10 @@ LARGEST_CROSS = 1e18
 def check_scale(norm: np.ndarray) -> None:
     """Raise a ValueError naming the scale if the faces (``norm``: twice their areas) are
     too small or too large for the metrics' single-precision arithmetic."""
-    median = float(np.median(norm))
     largest = float(np.max(norm))
+    smallest = float(np.min(norm))
+    # the median is needed only when the smallest face is too small (the usual crown has none)
+    median = smallest if smallest >= SMALLEST_CROSS else float(np.median(norm))
     if median < SMALLEST_CROSS:
         raise ValueError(
             f"the mesh's faces are too small for single-precision arithmetic (median face "
@@ -509,8 +516,14 @@ def molar_scale(vertices: np.ndarray) -> float:
     ValueError
         If the size is zero (every vertex lies on the line x = y = z).
     """
-    centred = vertices - vertices.mean(axis=1, keepdims=True)
-    size = float(np.sqrt(np.sum(centred**2)))
+    if vertices.dtype == np.float64 and vertices.ndim == 2 and vertices.shape[1] == 3:
+        # the row means as numpy's mean(axis=1) computes them, ((x + y) + z) / 3, without
+        # its reduction machinery (a quarter of the time; the same numbers)
+        mean = ((vertices[:, 0] + vertices[:, 1]) + vertices[:, 2]) / 3.0
+        centred = vertices - mean[:, None]
+    else:
+        centred = vertices - vertices.mean(axis=1, keepdims=True)
+    size = float(np.sqrt(np.sum(centred * centred)))
     if not size > 0:
         raise ValueError("the mesh has zero size (all vertices lie on the line x = y = z)")
     return SIZE_TARGET / size

@@ -67,6 +67,7 @@ import numpy as np
 
 from ..._jit import njit
 from .._parameters import BOUNDARY_RULES
+from . import _kernels
 from ._kernels import readonly
 
 #: float32's machine epsilon: vertices with a mixed area at or below it get curvature 0.
@@ -260,7 +261,10 @@ def face_max(values: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def border_vertices(surface) -> np.ndarray:
     """(n,) bool: vertices on a border edge (an edge only one face uses), as vcgBorder flags."""
     flags = np.zeros(len(surface.vertices), dtype=bool)
-    flags[surface.boundary_edges().ravel()] = True
+    if "edge_groups" in surface._owner._cache:  # grouped already (a batch row): use them
+        flags[surface.boundary_edges().ravel()] = True
+    else:  # a kernel of its own: a third of the time of grouping the edges
+        _kernels.border_vertex_flags(readonly(surface.faces), flags)
     return flags
 
 
@@ -299,17 +303,27 @@ def quantile7(values: np.ndarray, p: float) -> float:
     ``(1 - g) x[lo] + g x[lo + 1]`` (Hyndman and Fan 1996, definition 7),
     and ``x[lo]`` itself when the two are equal or ``h`` is whole.
     """
+    return quantiles7(values, (p,))[0]
+
+
+def quantiles7(values: np.ndarray, ps) -> tuple[float, ...]:
+    """:func:`quantile7` at each probability of `ps`, from one partition of `values`."""
     n = len(values)
-    index = 1.0 + (n - 1) * p  # 1-based, as R's
-    lo = math.floor(index)
-    hi = math.ceil(index)
-    part = np.partition(values, (lo - 1, hi - 1)) if hi != lo else np.partition(values, lo - 1)
-    q = float(part[lo - 1])
-    upper = float(part[hi - 1])
-    if index > lo and upper != q:
-        g = index - lo
-        q = (1.0 - g) * q + g * upper
-    return q
+    ends = []
+    for p in ps:
+        index = 1.0 + (n - 1) * p  # 1-based, as R's
+        ends.append((index, math.floor(index), math.ceil(index)))
+    kth = sorted({k - 1 for _, lo, hi in ends for k in (lo, hi)})
+    part = np.partition(values, kth)
+    found = []
+    for index, lo, hi in ends:
+        q = float(part[lo - 1])
+        upper = float(part[hi - 1])
+        if index > lo and upper != q:
+            g = index - lo
+            q = (1.0 - g) * q + g * upper
+        found.append(q)
+    return tuple(found)
 
 
 def cached(surface, key: str, compute):
