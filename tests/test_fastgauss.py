@@ -144,6 +144,18 @@ def test_same_bits_at_any_thread_count(noisy_tooth, monkeypatch, split):
     assert np.abs(runs[0].weight - whole.weight).max() < 1e-12 * whole.weight.max()
 
 
+def test_interpolation_in_parts_gives_the_same_bits(noisy_tooth, monkeypatch):
+    # each thread interpolates its part of the points: every value is the same,
+    # bit for bit, as when one transform interpolates them all
+    points = prepare(noisy_tooth).points
+    whole = _fastgauss.fast_euclidean_moments(points, 0.08, nthreads=1)
+    monkeypatch.setattr(_fastgauss, "MIN_INTERPOLATED", 100)
+    for threads in (2, 3):
+        parts = _fastgauss.fast_euclidean_moments(points, 0.08, nthreads=threads)
+        for name in ("weight", "first", "second", "count"):
+            assert getattr(parts, name).tobytes() == getattr(whole, name).tobytes(), name
+
+
 def _with_far_triangle(mesh, distance):
     far = trimesh.Trimesh(
         np.array([[0.0, 0, 0], [0.02, 0, 0], [0, 0.02, 0]]) + distance, [[0, 1, 2]]
