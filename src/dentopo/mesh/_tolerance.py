@@ -58,8 +58,20 @@ def length_scale(vertices: np.ndarray, faces: np.ndarray) -> float:
         return 0.0
     if len(faces) > SAMPLED_FACES:
         faces = faces[np.linspace(0, len(faces) - 1, SAMPLED_FACES).astype(np.int64)]
-    corners = vertices[faces]
-    lengths = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).ravel()
+    # each coordinate of each corner gathered on its own (contiguous arrays), and the
+    # lengths as np.linalg.norm computes them, (dx*dx + dy*dy) + dz*dz: the same bits,
+    # several times faster than norm over an (m, 3, 3) array of the corners
+    lengths = np.empty((3, len(faces)))
+    for axis in range(3):
+        coordinate = np.ascontiguousarray(vertices[:, axis])
+        a, b, c = (np.take(coordinate, faces[:, k]) for k in range(3))
+        for edge, (head, tail) in enumerate(((a, c), (b, a), (c, b))):
+            step = head - tail
+            if axis == 0:
+                np.multiply(step, step, out=lengths[edge])
+            else:
+                lengths[edge] += step * step
+    lengths = np.sqrt(lengths).ravel()
     lengths = lengths[(lengths > 0) & np.isfinite(lengths)]
     return float(np.median(lengths)) if len(lengths) else 0.0
 
