@@ -23,12 +23,9 @@ MAX_SWEEPS = 50
 
 
 @njit(inline="always")
-def _rotate(a, v, p, q):
-    """One Jacobi rotation that zeroes ``a[p, q]`` (Rutishauser's formulas)."""
-    apq = a[p, q]
-    if apq == 0.0:
-        return
-    theta = (a[q, q] - a[p, p]) / (2.0 * apq)
+def _rotation(app, aqq, apq):
+    """``s``, ``tau`` and ``h`` of the Jacobi rotation that zeroes ``apq`` (Rutishauser)."""
+    theta = (aqq - app) / (2.0 * apq)
     if abs(theta) > 1e150:  # theta**2 would overflow
         t = 0.5 / theta
     else:
@@ -37,83 +34,109 @@ def _rotate(a, v, p, q):
             t = -t
     c = 1.0 / np.sqrt(t * t + 1.0)
     s = t * c
-    tau = s / (1.0 + c)
-    h = t * apq
-    a[p, p] -= h
-    a[q, q] += h
-    a[p, q] = 0.0
-    a[q, p] = 0.0
-    for r in range(3):
-        if r != p and r != q:
-            g = a[r, p]
-            f = a[r, q]
-            a[r, p] = g - s * (f + g * tau)
-            a[p, r] = a[r, p]
-            a[r, q] = f + s * (g - f * tau)
-            a[q, r] = a[r, q]
-    for r in range(3):
-        g = v[r, p]
-        f = v[r, q]
-        v[r, p] = g - s * (f + g * tau)
-        v[r, q] = f + s * (g - f * tau)
+    return s, s / (1.0 + c), t * apq
 
 
 @njit(inline="always")
-def _jacobi(a, v):
-    """Diagonalise the symmetric 3 x 3 ``a`` in place; ``v`` (identity on entry) gets the vectors.
-
-    Off-diagonal entries too small to change either diagonal entry they couple
-    are set to zero (the classic test: ``|a_pp| + 100 |a_pq| == |a_pp|``).
-    """
-    for _ in range(MAX_SWEEPS):
-        done = True
-        for p, q in ((0, 1), (0, 2), (1, 2)):
-            g = 100.0 * abs(a[p, q])
-            if g == 0.0:
-                continue
-            if abs(a[p, p]) + g == abs(a[p, p]) and abs(a[q, q]) + g == abs(a[q, q]):
-                a[p, q] = 0.0
-                a[q, p] = 0.0
-                continue
-            done = False
-            _rotate(a, v, p, q)
-        if done:
-            return
+def _turn(g, f, s, tau):
+    """A pair of entries ``(x_p, x_q)`` after the rotation."""
+    return g - s * (f + g * tau), f + s * (g - f * tau)
 
 
-def _bending(covariance, normals, work, out):
+@njit(inline="always")
+def _negligible(app, aqq, apq):
+    """``apq`` too small to change either diagonal entry it couples (the classic test)."""
+    g = 100.0 * abs(apq)
+    return abs(app) + g == abs(app) and abs(aqq) + g == abs(aqq)
+
+
+def _bending(covariance, normals, out):
     """``out[i] = lambda / trace`` of ``covariance[i]`` (see ``bending``).
 
-    ``work`` (n, 2, 3, 3) is scratch space.  Writes into ``out`` and returns
-    nothing (see ``dentopo.ariadne._kernel._run_sums``).
+    A cyclic Jacobi solver on the six entries of the matrix and the nine of
+    its eigenvectors held in registers: rotations zero ``a01``, ``a02`` and
+    ``a12`` in turn (Rutishauser's formulas), sweep after sweep until every
+    off-diagonal entry is zero or negligible (``|a_pp| + 100 |a_pq| ==
+    |a_pp|``, and the same for ``a_qq``: it is then set to zero), at most
+    ``MAX_SWEEPS``.  Writes into ``out`` and returns nothing (see
+    ``dentopo.ariadne._kernel._run_sums``).
     """
     for i in prange(covariance.shape[0]):
-        a = work[i, 0]
-        v = work[i, 1]
-        for r in range(3):
-            for c in range(3):
-                a[r, c] = covariance[i, r, c]
-                v[r, c] = 1.0 if r == c else 0.0
-        _jacobi(a, v)
+        a00 = covariance[i, 0, 0]
+        a01 = covariance[i, 0, 1]
+        a02 = covariance[i, 0, 2]
+        a11 = covariance[i, 1, 1]
+        a12 = covariance[i, 1, 2]
+        a22 = covariance[i, 2, 2]
+        v00, v01, v02 = 1.0, 0.0, 0.0
+        v10, v11, v12 = 0.0, 1.0, 0.0
+        v20, v21, v22 = 0.0, 0.0, 1.0
+        for _ in range(MAX_SWEEPS):
+            done = True
+            if a01 != 0.0:  # p, q = 0, 1 (the third index: 2)
+                if _negligible(a00, a11, a01):
+                    a01 = 0.0
+                else:
+                    done = False
+                    s, tau, h = _rotation(a00, a11, a01)
+                    a00 -= h
+                    a11 += h
+                    a01 = 0.0
+                    a02, a12 = _turn(a02, a12, s, tau)
+                    v00, v01 = _turn(v00, v01, s, tau)
+                    v10, v11 = _turn(v10, v11, s, tau)
+                    v20, v21 = _turn(v20, v21, s, tau)
+            if a02 != 0.0:  # p, q = 0, 2 (the third index: 1)
+                if _negligible(a00, a22, a02):
+                    a02 = 0.0
+                else:
+                    done = False
+                    s, tau, h = _rotation(a00, a22, a02)
+                    a00 -= h
+                    a22 += h
+                    a02 = 0.0
+                    a01, a12 = _turn(a01, a12, s, tau)
+                    v00, v02 = _turn(v00, v02, s, tau)
+                    v10, v12 = _turn(v10, v12, s, tau)
+                    v20, v22 = _turn(v20, v22, s, tau)
+            if a12 != 0.0:  # p, q = 1, 2 (the third index: 0)
+                if _negligible(a11, a22, a12):
+                    a12 = 0.0
+                else:
+                    done = False
+                    s, tau, h = _rotation(a11, a22, a12)
+                    a11 -= h
+                    a22 += h
+                    a12 = 0.0
+                    a01, a02 = _turn(a01, a02, s, tau)
+                    v01, v02 = _turn(v01, v02, s, tau)
+                    v11, v12 = _turn(v11, v12, s, tau)
+                    v21, v22 = _turn(v21, v22, s, tau)
+            if done:
+                break
+        lams = (a00, a11, a22)
+        nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
+        dots = (
+            abs(v00 * nx + v10 * ny + v20 * nz),
+            abs(v01 * nx + v11 * ny + v21 * nz),
+            abs(v02 * nx + v12 * ny + v22 * nz),
+        )
         # the three eigenpairs by ascending eigenvalue (a stable sort, as eigh's order)
         k0, k1, k2 = 0, 1, 2
-        if a[k1, k1] < a[k0, k0]:
+        if lams[k1] < lams[k0]:
             k0, k1 = k1, k0
-        if a[k2, k2] < a[k1, k1]:
+        if lams[k2] < lams[k1]:
             k1, k2 = k2, k1
-            if a[k1, k1] < a[k0, k0]:
+            if lams[k1] < lams[k0]:
                 k0, k1 = k1, k0
         best = -1.0
         pick = 0.0
         trace = 0.0
         for col in (k0, k1, k2):
-            lam = a[col, col]
+            lam = lams[col]
             trace += lam
-            closeness = abs(
-                v[0, col] * normals[i, 0] + v[1, col] * normals[i, 1] + v[2, col] * normals[i, 2]
-            )
-            if closeness > best:  # strictly: a tie keeps the first, as argmax does
-                best = closeness
+            if dots[col] > best:  # strictly: a tie keeps the first, as argmax does
+                best = dots[col]
                 pick = lam
         out[i] = pick / trace if trace > 0 else 0.0
 
@@ -147,5 +170,5 @@ def bending(covariance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     normals = np.ascontiguousarray(normals, dtype=np.float64)
     out = np.empty(len(covariance))
     solve = _bending_parallel if len(covariance) >= PARALLEL_VERTICES else _bending_serial
-    solve(covariance, normals, np.empty((len(covariance), 2, 3, 3)), out)
+    solve(covariance, normals, out)
     return out
