@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dentopo.ariadne._kernel import euclidean_moments, kernel_radius
+from dentopo.ariadne._kernel import COUNTED_UP_TO, euclidean_moments, kernel_radius
 
 
 def brute_force(points, bandwidth, cutoff):
@@ -35,7 +35,7 @@ def test_kernel_sums_equal_brute_force(bandwidth, cutoff):
     np.testing.assert_allclose(
         moments.second, second, rtol=1e-12, atol=1e-15 * np.abs(second).max()
     )
-    np.testing.assert_array_equal(moments.count, count)
+    np.testing.assert_array_equal(moments.count, np.minimum(count, COUNTED_UP_TO))
 
 
 def _inline_exponential(t):
@@ -79,7 +79,7 @@ def test_kernel_sums_with_a_stray_point_equal_brute_force():
     weight, _, second, count = brute_force(points, 0.05, 0.0)
     np.testing.assert_allclose(moments.weight, weight, rtol=1e-13)
     np.testing.assert_allclose(moments.second, second, rtol=1e-12, atol=1e-15 * second.max())
-    np.testing.assert_array_equal(moments.count, count)
+    np.testing.assert_array_equal(moments.count, np.minimum(count, COUNTED_UP_TO))
     assert moments.weight[17] == 1.0 and moments.count[17] == 1
 
 
@@ -117,6 +117,17 @@ def test_spatial_order_is_plain_morton_without_crowded_cells():
     assert np.array_equal(spatial_order(points), _morton_order(points)[0])
     same = np.zeros((300, 3))  # identical points: no endless refinement
     assert np.array_equal(np.sort(spatial_order(same)), np.arange(300))
+
+
+@pytest.mark.parametrize(("bandwidth", "cutoff"), [(0.05, 0.0), (0.3, 0.3)])
+def test_few_neighbours_are_counted_exactly(bandwidth, cutoff):
+    # points strewn thinly: counts from 1 to many; those up to COUNTED_UP_TO exact
+    rng = np.random.default_rng(21)
+    points = rng.random((400, 3)) * [6.0, 6.0, 0.5]
+    moments = euclidean_moments(points, bandwidth, cutoff)
+    *_, count = brute_force(points, bandwidth, cutoff)
+    assert (count <= 3).sum() > 20 and (count > COUNTED_UP_TO).sum() > 20
+    np.testing.assert_array_equal(moments.count, np.minimum(count, COUNTED_UP_TO))
 
 
 def _moments_bits(moments):
@@ -179,7 +190,7 @@ def test_paired_kernel_with_far_apart_clusters_equals_brute_force():
     np.testing.assert_allclose(moments.weight, weight, rtol=1e-13)
     np.testing.assert_allclose(moments.first, first, rtol=1e-12, atol=1e-15 * np.abs(first).max())
     np.testing.assert_allclose(moments.second, second, rtol=1e-12, atol=1e-15 * second.max())
-    np.testing.assert_array_equal(moments.count, count)
+    np.testing.assert_array_equal(moments.count, np.minimum(count, COUNTED_UP_TO))
 
 
 def test_kernel_sums_with_uneven_work_equal_brute_force():
@@ -192,7 +203,7 @@ def test_kernel_sums_with_uneven_work_equal_brute_force():
     np.testing.assert_allclose(moments.weight, weight, rtol=1e-13)
     np.testing.assert_allclose(moments.first, first, rtol=1e-12, atol=1e-15 * np.abs(first).max())
     np.testing.assert_allclose(moments.second, second, rtol=1e-12, atol=1e-15 * second.max())
-    np.testing.assert_array_equal(moments.count, count)
+    np.testing.assert_array_equal(moments.count, np.minimum(count, COUNTED_UP_TO))
 
 
 def test_no_points_no_sums():

@@ -70,7 +70,13 @@ import numpy as np
 
 from .._jit import njit
 from .._optional import FAST_METHOD
-from ._kernel import KernelMoments, euclidean_moments, kernel_radius
+from ._kernel import (
+    COUNTED_UP_TO,
+    KernelMoments,
+    euclidean_moments,
+    few_neighbour_counts,
+    kernel_radius,
+)
 from ._parameters import check_bandwidth
 
 #: FINUFFT tolerance used by default (see the module's error model).
@@ -92,9 +98,6 @@ MAX_MODES = 64_000_000
 DERIVATIVES_UP_TO = 0.5
 #: Groups of fewer points than this are summed exactly (at most this many pairs per point).
 MIN_FAST_POINTS = 256
-#: Vertices with a kernel sum below this may have 3 or fewer neighbours; their
-#: neighbours are counted exactly (a vertex's own weight is 1).
-_FEW_NEIGHBOURS_WEIGHT = 4.0
 
 
 def _require_finufft():
@@ -208,24 +211,6 @@ def fits(points: np.ndarray, bandwidth: float) -> bool:
     return plan_fast(points, bandwidth).problem is None
 
 
-def _few_neighbour_counts(points, weight, radius, cap):
-    """Neighbour counts (self included), exact where they can be below ``cap``.
-
-    A vertex with fewer than ``cap`` neighbours within ``radius`` has a kernel
-    sum below ``cap`` (every weight is at most 1), so only those are counted;
-    the others get ``cap``.
-    """
-    count = np.full(len(points), cap, dtype=np.int64)
-    maybe = np.flatnonzero(weight < cap + 1e-6)
-    if len(maybe):
-        from scipy.spatial import cKDTree
-
-        tree = cKDTree(points)
-        found = tree.query_ball_point(points[maybe], radius, return_length=True)
-        count[maybe] = np.minimum(found, cap)
-    return count
-
-
 def fast_euclidean_moments(
     points: np.ndarray,
     bandwidth: float,
@@ -291,7 +276,7 @@ def fast_euclidean_moments(
         weight[index] = moments.weight
         first[index] = moments.first
         second[index] = moments.second
-        count[index] = np.minimum(moments.count, int(_FEW_NEIGHBOURS_WEIGHT))
+        count[index] = np.minimum(moments.count, COUNTED_UP_TO)
     return KernelMoments(weight, first, second, count)
 
 
@@ -422,7 +407,7 @@ def _transform_moments(finufft, points, h, tolerance, nthreads) -> KernelMoments
             finufft, shape, coords, (kx, ky, kz), gauss, h, tolerance, nthreads
         )
     radius = kernel_radius(h, 0.0)
-    count = _few_neighbour_counts(points, weight, radius, int(_FEW_NEIGHBOURS_WEIGHT))
+    count = few_neighbour_counts(points, weight, radius)
     return KernelMoments(weight, first, second, count)
 
 

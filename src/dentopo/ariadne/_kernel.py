@@ -6,7 +6,8 @@ For every vertex i and weights ``w_ij = exp(-d_ij**2 / h**2)`` (kept where
 * ``weight``      ``S0_i = sum_j w_ij``
 * ``first``       ``sum_j w_ij (x_j - x_i)``                (n, 3)
 * ``second``      ``sum_j w_ij (x_j - x_i)(x_j - x_i)^T``   (n, 3, 3)
-* ``count``       the number of neighbours ``j`` (i itself included)
+* ``count``       the number of neighbours ``j`` (i itself included), exact up to
+                  ``COUNTED_UP_TO`` (larger counts are given as that number)
 
 from which the weighted covariance ``C_i = second / S0`` and the weighted
 centroid ``g_i = x_i + first / S0`` follow.  No n x n matrix is formed: rows are
@@ -158,7 +159,6 @@ def _run_sums(
     radius2,
     parts,
     out,
-    count,
 ):
     """Kernel sums for vertices ``parts[0]`` to ``parts[-1] - 1`` over the runs of their block.
 
@@ -167,14 +167,14 @@ def _run_sums(
     Pairs beyond the radius or with weight ``<= cutoff`` get weight zero.
 
     The sums go to ``out[i]`` (weight, first moment, then the second moment's
-    xx, xy, xz, yy, yz, zz) and the number of neighbours to ``count[i]``:
-    arrays of the caller.  Nothing is returned, because returning new arrays
-    is not safe from Ctrl-C: numba boxes them with a little Python code (it
-    unpickles the array type), where a KeyboardInterrupt that arrived during
-    the loop is raised; a tuple of boxes then holds a NULL, and the caller
-    gets a ``SystemError`` or a segmentation fault.  Each vertex's sums
-    depend on that vertex alone, so the caller can compute them in slices
-    (and Python then reacts to Ctrl-C between slices).  Thread ``k`` computes
+    xx, xy, xz, yy, yz, zz): an array of the caller.  Nothing is returned,
+    because returning new arrays is not safe from Ctrl-C: numba boxes them
+    with a little Python code (it unpickles the array type), where a
+    KeyboardInterrupt that arrived during the loop is raised; a tuple of
+    boxes then holds a NULL, and the caller gets a ``SystemError`` or a
+    segmentation fault.  Each vertex's sums depend on that vertex alone, so
+    the caller can compute them in slices (and Python then reacts to Ctrl-C
+    between slices).  Thread ``k`` computes
     the vertices ``parts[k]`` to ``parts[k + 1] - 1``.
     """
     # one part of rows per thread, of about equal work: numba would give each thread
@@ -188,13 +188,11 @@ def _run_sums(
             zi = zs[i]
             s0 = s1x = s1y = s1z = 0.0
             sxx = sxy = sxz = syy = syz = szz = 0.0
-            kept = 0.0
             for run in range(run_ptr[a], run_ptr[a + 1]):
                 # fresh accumulators per run: the innermost loop owns its reductions,
                 # which LLVM vectorises (carried across the run loop, it does not)
                 r0 = r1x = r1y = r1z = 0.0
                 rxx = rxy = rxz = ryy = ryz = rzz = 0.0
-                rk = 0.0
                 # views indexed from 0: numba then knows the index is non-negative and
                 # drops its negative-index wraparound, which would turn loads into gathers
                 xr = xs[run_start[run] : run_end[run]]
@@ -208,7 +206,6 @@ def _run_sums(
                     w = exp_neg(d2 * inv_h2)
                     keep = (d2 <= radius2) and (w > cutoff)
                     w = w if keep else 0.0
-                    rk += 1.0 if keep else 0.0
                     wx = w * dx
                     wy = w * dy
                     wz = w * dz
@@ -232,7 +229,6 @@ def _run_sums(
                 syy += ryy
                 syz += ryz
                 szz += rzz
-                kept += rk
             out[i, 0] = s0
             out[i, 1] = s1x
             out[i, 2] = s1y
@@ -243,7 +239,6 @@ def _run_sums(
             out[i, 7] = syy
             out[i, 8] = syz
             out[i, 9] = szz
-            count[i] = np.int64(kept)
 
 
 #: Pairs of points one call of the compiled kernel goes through per thread (about 0.15 s):
@@ -278,7 +273,6 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
     zi = zs[i]
     s0 = s1x = s1y = s1z = 0.0
     sxx = sxy = sxz = syy = syz = szz = 0.0
-    kept = 0.0
     for run in range(run_ptr[a], run_ptr[a + 1]):
         first = max(run_start[run], i + 1)
         stop = run_end[run]
@@ -300,10 +294,8 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
         cyy = cols[7, first - off : stop - off]
         cyz = cols[8, first - off : stop - off]
         czz = cols[9, first - off : stop - off]
-        ck = cols[10, first - off : stop - off]
         r0 = r1x = r1y = r1z = 0.0
         rxx = rxy = rxz = ryy = ryz = rzz = 0.0
-        rk = 0.0
         for j in range(xr.shape[0]):
             dx = xr[j] - xi
             dy = yr[j] - yi
@@ -312,7 +304,6 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
             w = exp_neg(d2 * inv_h2)
             keep = (d2 <= radius2) and (w > cutoff)
             w = w if keep else 0.0
-            k = 1.0 if keep else 0.0
             wx = w * dx
             wy = w * dy
             wz = w * dz
@@ -332,7 +323,6 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
             ryy += pyy
             ryz += pyz
             rzz += pzz
-            rk += k
             c0[j] += w
             c1x[j] -= wx
             c1y[j] -= wy
@@ -343,7 +333,6 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
             cyy[j] += pyy
             cyz[j] += pyz
             czz[j] += pzz
-            ck[j] += k
         s0 += r0
         s1x += r1x
         s1y += r1y
@@ -354,7 +343,6 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
         syy += ryy
         syz += ryz
         szz += rzz
-        kept += rk
     rows[0, i] += s0
     rows[1, i] += s1x
     rows[2, i] += s1y
@@ -365,7 +353,6 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
     rows[7, i] += syy
     rows[8, i] += syz
     rows[9, i] += szz
-    rows[10, i] += kept
 
 
 @njit(cache=True, parallel=True, fastmath=True)
@@ -396,7 +383,7 @@ def _half_sums(
     ``task_start[t]`` to ``task_start[t + 1] - 1``: their sums over ``j > i``
     go to ``rows[:, i]`` (with the vertex's own weight 1 first), and the terms
     of the pairs for their ``j`` to the task's own columns, ``buffer`` from
-    ``buffer_start[t]`` on, an (11, width) array for ``j`` from
+    ``buffer_start[t]`` on, a (10, width) array for ``j`` from
     ``col_offset[t]`` on.  Tasks share no sum: ``_gather_sums`` adds the
     columns up in task order, so the sums do not depend on the threads.  The
     rows of each task are split into `parts` consecutive parts, one per call,
@@ -408,15 +395,14 @@ def _half_sums(
     consts = (inv_h2, cutoff, radius2)
     for task in prange(task_start.shape[0] - 1):
         off = col_offset[task]
-        width = (buffer_start[task + 1] - buffer_start[task]) // 11
-        cols = buffer[buffer_start[task] : buffer_start[task + 1]].reshape((11, width))
+        width = (buffer_start[task + 1] - buffer_start[task]) // 10
+        cols = buffer[buffer_start[task] : buffer_start[task + 1]].reshape((10, width))
         size = task_start[task + 1] - task_start[task]
         first = task_start[task] + size * part // parts
         stop = task_start[task] + size * (part + 1) // parts
         for row in range(first, stop):
             i = np.int64(row)
             rows[0, i] += 1.0  # the vertex itself: weight exp(0) = 1, no moment
-            rows[10, i] += 1.0
             a = block_of[i]
             _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows, cols, off)
 
@@ -430,9 +416,9 @@ def _gather_sums(task_start, col_offset, buffer_start, buffer, rows):
     """
     for task in range(task_start.shape[0] - 1):
         off = col_offset[task]
-        width = (buffer_start[task + 1] - buffer_start[task]) // 11
+        width = (buffer_start[task + 1] - buffer_start[task]) // 10
         base = buffer_start[task]
-        for q in range(11):
+        for q in range(10):
             column = buffer[base + q * width : base + (q + 1) * width]
             target = rows[q, off : off + width]
             for j in range(width):
@@ -440,7 +426,7 @@ def _gather_sums(task_start, col_offset, buffer_start, buffer, rows):
 
 
 def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2):
-    """``_half_sums`` and ``_gather_sums`` on Morton-ordered points: sums (11, n)."""
+    """``_half_sums`` and ``_gather_sums`` on Morton-ordered points: sums (10, n)."""
     run_ptr, run_start, run_end = runs
     n = len(xs)
     sizes = np.diff(block_start)
@@ -468,9 +454,9 @@ def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2):
     )
     col_offset = task_start[:-1].copy()
     width = np.maximum(reach_end - col_offset, 0)
-    buffer_start = np.concatenate([[0], np.cumsum(11 * width)]).astype(np.int64)
+    buffer_start = np.concatenate([[0], np.cumsum(10 * width)]).astype(np.int64)
     buffer = np.zeros(buffer_start[-1])
-    rows = np.zeros((11, n))
+    rows = np.zeros((10, n))
     pairs = float(row_cost.sum())
     parts = max(1, int(np.ceil(pairs / (PAIRS_PER_CALL * numba.get_num_threads()))))
     for part in range(parts):
@@ -547,6 +533,30 @@ def candidate_runs(
     return run_ptr, run_start, run_end
 
 
+#: Neighbour counts are exact up to this number (ariaDNE warns about vertices with
+#: 3 or fewer); larger counts are given as this number.
+COUNTED_UP_TO = 4
+
+
+def few_neighbour_counts(points, weight, radius, cap=COUNTED_UP_TO):
+    """Neighbour counts within `radius` (self included), exact where they can be below `cap`.
+
+    A vertex with fewer than ``cap`` neighbours has a kernel sum below ``cap``
+    (every weight is at most 1), so only those are counted (a k-d tree query);
+    the others get ``cap``.  The pair kernels no longer count every pair: only
+    the warning about vertices with 3 or fewer neighbours reads the counts.
+    """
+    count = np.full(len(points), cap, dtype=np.int64)
+    maybe = np.flatnonzero(weight < cap + 1e-6)
+    if len(maybe):
+        from scipy.spatial import cKDTree
+
+        tree = cKDTree(points)
+        found = tree.query_ball_point(points[maybe], radius, return_length=True)
+        count[maybe] = np.minimum(found, cap)
+    return count
+
+
 def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> KernelMoments:
     """Kernel moments with straight-line distances, in linear memory.
 
@@ -558,7 +568,7 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
     loop is vectorised, and short runs waste it.  Sums are accumulated relative
     to the vertex itself (no cancellation).  Up to ``PAIRED_VERTICES`` vertices
     each pair is computed once (``_half_sums``: ``w_ij = w_ji``, about 25% less
-    work; a buffer of up to ``PAIRED_TASKS * 88`` bytes per vertex), above that
+    work; a buffer of up to ``PAIRED_TASKS * 80`` bytes per vertex), above that
     each vertex's row in full (``_run_sums``).  The two add the same terms in
     different orders: they agree to rounding error (about 1e-15 relative).
 
@@ -586,24 +596,25 @@ def euclidean_moments(points: np.ndarray, bandwidth: float, cutoff: float) -> Ke
     run_ptr, run_start, run_end = candidate_runs(lo, hi, block_start, radius**2)
     xs, ys, zs = (np.ascontiguousarray(ordered[:, k]) for k in range(3))
     constants = (1.0 / bandwidth**2, float(cutoff), radius**2)
-    moments = np.empty((n, 11))
+    moments = np.empty((n, 10))
     if n <= PAIRED_VERTICES:
         runs = (run_ptr, run_start, run_end)
         moments[order] = _paired_moments(xs, ys, zs, block_start, runs, *constants).T
     else:
-        moments[order, :10], moments[order, 10] = _row_moments(
+        moments[order] = _row_moments(
             xs, ys, zs, block_start, run_ptr, run_start, run_end, constants
         )
     second = moments[:, [4, 5, 6, 5, 7, 8, 6, 8, 9]].reshape(-1, 3, 3)
-    return KernelMoments(moments[:, 0], moments[:, 1:4], second, moments[:, 10].astype(np.int64))
+    weight = moments[:, 0]
+    count = few_neighbour_counts(points, weight, radius, COUNTED_UP_TO)
+    return KernelMoments(weight, moments[:, 1:4], second, count)
 
 
 def _row_moments(xs, ys, zs, block_start, run_ptr, run_start, run_end, constants):
-    """``_run_sums`` on Morton-ordered points: sums (n, 10) and counts (n,)."""
+    """``_run_sums`` on Morton-ordered points: sums (n, 10)."""
     n = len(xs)
     block_of = np.repeat(np.arange(len(block_start) - 1), np.diff(block_start))
     sums = np.zeros((n, 10))
-    count = np.zeros(n, np.int64)
     threads = numba.get_num_threads()
     # the work: each row of a block goes through the points of the block's runs
     run_length = np.concatenate([[0], np.cumsum(run_end - run_start)])
@@ -614,8 +625,8 @@ def _row_moments(xs, ys, zs, block_start, run_ptr, run_start, run_end, constants
         reach * sizes, PAIRS_PER_CALL * threads, minimum=SLICE_BLOCKS * threads
     ):
         parts = balanced_parts(row_reach, block_start[first], block_start[stop], threads)
-        _run_sums(xs, ys, zs, block_of, run_ptr, run_start, run_end, *constants, parts, sums, count)
-    return sums, count
+        _run_sums(xs, ys, zs, block_of, run_ptr, run_start, run_end, *constants, parts, sums)
+    return sums
 
 
 def edge_graph(points: np.ndarray, faces: np.ndarray) -> csr_matrix:
