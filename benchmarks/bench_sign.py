@@ -4,17 +4,21 @@ Usage (from the repository root, with the project's environment)::
 
     .venv/bin/python benchmarks/bench_sign.py                      # low, normal, high
     .venv/bin/python benchmarks/bench_sign.py --sizes 1000000 --repeats 1
+    .venv/bin/python benchmarks/bench_sign.py --meshes --cone 10000 100000 --repeats 1
     NUMBA_NUM_THREADS=1 .venv/bin/python benchmarks/bench_sign.py  # CPU time of one thread
 
 The inputs are what ``ariaDNE`` hands to the sign step: the prepared mesh's points and
-faces and the kernel-weighted centroids (bandwidth 0.08; the exact kernel on the shared
-meshes, the fast one on generated crowns, which are grown as in ``bench_scaling.py``).
-For each mesh the whole step (``convex_vertices("centroid", ...)``) and its stages are
-timed, interleaved over ``--repeats`` runs, and the medians of wall and CPU seconds are
-printed (CPU seconds count every thread; on a shared machine they vary less).  Stages:
-``close_holes``; the triangles in k-d order (long ones cut); the hierarchy's nodes; the
-queries' spatial order; the first, approximate pass over all queries.  With ``--memory``
-each mesh runs in a fresh process and its peak resident memory is reported too.
+faces and the kernel-weighted centroids (bandwidth 0.08; the exact kernel below 20,000
+vertices, the fast one from there on, as ariaDNE's ``"auto"``).  Generated crowns are
+grown as in ``bench_scaling.py``; ``--cone N`` is a cone of N side faces on one apex and
+a base fan of N faces on one centre (``tests/faults/test_geometry_cost.py``'s), whose
+needles the step cuts where the centroids come near them.  For each mesh the whole step
+(``convex_vertices("centroid", ...)``) and its stages are timed, interleaved over
+``--repeats`` runs, and the medians of wall and CPU seconds are printed (CPU seconds
+count every thread; on a shared machine they vary less).  Stages: ``close_holes``; the
+triangles in k-d order (long ones and needles cut); the hierarchy's nodes; the queries'
+spatial order; the first, approximate pass over all queries.  With ``--memory`` each
+mesh runs in a fresh process and its peak resident memory is reported too.
 """
 
 from __future__ import annotations
@@ -39,21 +43,37 @@ def inputs(name: str, folder: Path):
     from dentopo.ariadne import _fastgauss, _kernel
     from dentopo.mesh import prepare
 
-    if name.isdigit():
+    if name.startswith("cone"):
+        prepared = prepare(cone(int(name[4:])))
+    elif name.isdigit():
         sys.path.insert(0, str(HERE))
         from bench_scaling import make_mesh
 
-        path = make_mesh(int(name), folder, 0.05)
+        prepared = prepare(str(make_mesh(int(name), folder, 0.05)))
     else:
-        path = SHARED_MESHES / f"{name}.ply"
-    prepared = prepare(str(path))
+        prepared = prepare(str(SHARED_MESHES / f"{name}.ply"))
     points = prepared.points
     faces = np.asarray(prepared.mesh.faces)
-    if name.isdigit():
+    if len(points) >= 20_000:
         moments = _fastgauss.fast_euclidean_moments(points, 0.08)
     else:
         moments = _kernel.euclidean_moments(points, 0.08, 0.0)
     return points, faces, moments.centroid(points)
+
+
+def cone(n: int):
+    """``vertices, faces`` of a cone of `n` side faces on one apex, its base a fan of `n`
+    faces on one centre (``tests/faults/test_geometry_cost.py``'s ``_cone``)."""
+    import numpy as np
+
+    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    rim = np.column_stack([np.cos(t), np.sin(t), np.zeros(n)])
+    vertices = np.vstack([rim, [[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]])
+    i = np.arange(n)
+    j = (i + 1) % n
+    side = np.column_stack([i, j, np.full(n, n)])
+    base = np.column_stack([j, i, np.full(n, n + 1)])
+    return vertices, np.vstack([side, base])
 
 
 def stages(points, faces, centroids):
@@ -65,7 +85,7 @@ def stages(points, faces, centroids):
     from dentopo.sign import convex_vertices
 
     vertices, closed = close_holes(points, faces)
-    tri = winding._ordered_triangles(vertices, closed)
+    tri = winding._ordered_triangles(vertices, closed, queries=centroids)
     tree = winding._tree(tri)
     order = spatial_order(centroids)
     queries = np.ascontiguousarray(centroids[order])
@@ -73,7 +93,10 @@ def stages(points, faces, centroids):
     return [
         ("sign step", lambda: convex_vertices("centroid", points, faces, centroids, 0.08)),
         ("close_holes", lambda: close_holes(points, faces)),
-        ("ordered triangles", lambda: winding._ordered_triangles(vertices, closed)),
+        (
+            "ordered triangles",
+            lambda: winding._ordered_triangles(vertices, closed, queries=centroids),
+        ),
         ("hierarchy", lambda: winding._tree(tri)),
         ("query order", lambda: spatial_order(centroids)),
         ("queries", lambda: winding._approximate(tri, tree, queries, ratio, True)),
@@ -114,11 +137,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--meshes", nargs="*", default=["low", "normal", "high"])
     parser.add_argument("--sizes", type=int, nargs="*", default=[])
+    parser.add_argument("--cone", type=int, nargs="*", default=[], help="cones of N side faces")
     parser.add_argument("--repeats", type=int, default=20)
     parser.add_argument("--memory", action="store_true", help="one fresh process per mesh")
     parser.add_argument("--json", type=Path, help="also write the rows here")
     args = parser.parse_args(argv)
-    names = [*args.meshes, *map(str, args.sizes)]
+    names = [*args.meshes, *map(str, args.sizes), *(f"cone{n}" for n in args.cone)]
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
         for name in names:
