@@ -1,19 +1,27 @@
 """A result's ``mesh`` built when it is first read, not when the metric returns.
 
-Every topography result carries the cleaned mesh its per-face arrays refer to,
-as a ``trimesh.Trimesh``.  Building one costs more than the small metrics
-themselves (about 0.1 ms on a crown of 8000 faces: trimesh's caches and
-visuals, and two copies of the arrays), and a batch row never reads it.  So a
-metric hands its result a :class:`MeshLater` (the surface's own read-only
-arrays, by reference), and the :class:`LazyMesh` field turns it into the
-``Trimesh`` the first time ``result.mesh`` is read: the same mesh as before
-(a private copy of the arrays, not processed), built once and then kept.
+ariaDNE's result and every topography result carry the cleaned mesh their
+per-vertex or per-face arrays refer to, as a ``trimesh.Trimesh``.  Building one
+costs more than the small metrics themselves (about 0.1 ms on a crown of 8000
+faces: trimesh's caches and visuals, and two copies of the arrays), and a batch
+row never reads it; importing trimesh costs more still (about 0.5 s: it imports
+networkx, scipy's spatial and optimize, shapely, lxml), and the command's plain
+ariaDNE run never needs it.  So a metric hands its result a :class:`MeshLater`
+(the arrays, by reference, and the mesh's metadata), and the :class:`LazyMesh`
+field turns it into the ``Trimesh`` the first time ``result.mesh`` is read: the
+same mesh as before (a private copy of the arrays, not processed, the metadata
+added), built once and then kept.  :func:`mesh_metadata` reads the metadata
+without building the mesh.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import trimesh
+
+if TYPE_CHECKING:
+    import trimesh
 
 
 class MeshLater:
@@ -22,24 +30,32 @@ class MeshLater:
     Several results may share one (OPCR's rotations): they then share the built mesh.
     """
 
-    __slots__ = ("_built", "faces", "vertices")
+    __slots__ = ("_built", "faces", "metadata", "vertices")
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray):
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, metadata: dict | None = None):
         self.vertices = vertices
         self.faces = faces
+        self.metadata = {} if metadata is None else metadata
         self._built = None
 
     def build(self) -> trimesh.Trimesh:
-        """The ``trimesh.Trimesh`` (faces as stored, not processed; private copies), built once."""
+        """The ``trimesh.Trimesh`` (faces as stored, not processed; private copies), built once.
+
+        Its ``metadata`` holds this one's items (the same objects).
+        """
         if self._built is None:
-            self._built = trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
+            import trimesh  # only here: a plain run never builds the mesh
+
+            built = trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
+            built.metadata.update(self.metadata)
+            self._built = built
         return self._built
 
     def __getstate__(self):
-        return self.vertices, self.faces, self._built
+        return self.vertices, self.faces, self.metadata, self._built
 
     def __setstate__(self, state):
-        self.vertices, self.faces, self._built = state
+        self.vertices, self.faces, self.metadata, self._built = state
 
 
 class LazyMesh:
@@ -67,3 +83,12 @@ class LazyMesh:
         if value is self:
             raise TypeError(f"{type(obj).__name__}: missing the argument {self.name!r}")
         obj.__dict__[self.name] = value
+
+
+def unbuilt(owner, name: str = "mesh"):
+    """What `owner`'s :class:`LazyMesh` field `name` holds, not building it.
+
+    A :class:`MeshLater` or a ``trimesh.Trimesh``: both have ``vertices``,
+    ``faces`` and ``metadata``.
+    """
+    return vars(owner)[name]
