@@ -14,6 +14,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..mesh import prepare
+from ..mesh._lazy import unbuilt
 from ..sign import check_sign_method, convex_vertices
 from . import _eigen, _fastgauss, _kernel
 from ._parameters import check_bandwidth, check_cutoff
@@ -165,7 +166,8 @@ def ariaDNE(  # noqa: N802 -- the paper's name
     phase("prepare")
     prepared = prepare(mesh)
     points = prepared.points
-    faces = np.asarray(prepared.mesh.faces)
+    mesh = unbuilt(prepared)  # the cleaned mesh, built only if the result's mesh is read
+    faces = np.asarray(mesh.faces)
     kind = "precomputed" if precomputed_dist is not None else distance_type
     method = _fastgauss.resolve_method(method, points, bandwidth, cutoff, kind)
     phase("kernel")
@@ -218,6 +220,6 @@ def ariaDNE(  # noqa: N802 -- the paper's name
         cutoff=cutoff,
         distance_type=distance_type,
         sign_method=sign_method,
-        mesh=prepared.mesh,
+        mesh=mesh,
         method=method,
     )

@@ -26,16 +26,18 @@ block's centre so that cancellation is limited to the block's extent.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
 
 from .._jit import njit, prange
 from ..mesh import spatial_order
 from ._exp import exp_neg
 from ._parameters import check_bandwidth, check_cutoff
+
+if TYPE_CHECKING:
+    from scipy.sparse import csr_matrix
 
 #: With cutoff 0, weights beyond this many bandwidths are below 1e-16 of the
 #: largest (exp(-6.1**2) = 6.7e-17) and cannot change a double-precision sum.
@@ -631,6 +633,8 @@ def _row_moments(xs, ys, zs, block_start, run_ptr, run_start, run_end, constants
 
 def edge_graph(points: np.ndarray, faces: np.ndarray) -> csr_matrix:
     """Undirected sparse graph of mesh edges weighted by Euclidean edge length."""
+    from scipy.sparse import csr_matrix  # only for geodesic distances (0.25 s to import)
+
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     edges = np.unique(np.sort(edges, axis=1), axis=0)
     length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
@@ -647,6 +651,8 @@ def geodesic_moments(
     Dijkstra runs from each block of source vertices, bounded by the kernel
     radius, so only the vertices it reaches enter the sums.
     """
+    from scipy.sparse.csgraph import dijkstra
+
     bandwidth, cutoff = check_bandwidth(bandwidth), check_cutoff(cutoff)
     n = len(points)
     radius = kernel_radius(bandwidth, cutoff)

@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from .._html_repr import result_html
+from ..mesh._lazy import LazyMesh
+
+if TYPE_CHECKING:
+    import trimesh
 
 #: Scalar fields, in the order of output tables (after ``file``).
 SCALAR_FIELDS = (
@@ -74,7 +78,9 @@ class AriaDNEResult:
         sums over every neighbour within the kernel's reach) or ``"fast"``
         (fast Gauss transform by non-uniform FFT, for large meshes).
     mesh : trimesh.Trimesh
-        The cleaned mesh the per-vertex values refer to (a private copy).
+        The cleaned mesh the per-vertex values refer to (a private copy), what
+        cleaning changed in ``mesh.metadata["cleaning"]``; built when it is
+        first read (trimesh is imported then, not before).
     """
 
     local_curvature: np.ndarray
@@ -91,7 +97,7 @@ class AriaDNEResult:
     cutoff: float
     distance_type: str
     sign_method: str
-    mesh: trimesh.Trimesh = field(repr=False, compare=False)
+    mesh: trimesh.Trimesh = field(default=LazyMesh(), repr=False, compare=False)
     method: str = "exact"
 
     def to_dict(self) -> dict:

@@ -44,7 +44,7 @@ class FoundInputs:
 
 def mesh_extensions() -> tuple[str, ...]:
     """Extensions (lower case, no dot) of the mesh formats searched for in directories."""
-    import trimesh
+    import trimesh  # only here: files named one by one are not asked of trimesh (0.5 s)
 
     readable = set(trimesh.available_formats())
     return tuple(ext for ext in MESH_EXTENSIONS if ext in readable)
@@ -125,13 +125,14 @@ def find_mesh_files(inputs: Iterable[str | os.PathLike]) -> FoundInputs:
         that trimesh cannot read here (``.dae`` without pycollada): they are
         skipped, and the warning names the package that reads them.
     """
-    extensions = mesh_extensions()
+    extensions: tuple[str, ...] | None = None  # asked of trimesh for the first folder searched
     skipped: dict[str, set[str]] = {}  # files of a format trimesh cannot read, by extension
     candidates: list[str] = []
     unmatched: list[str] = []
     for item in inputs:
         path = os.fspath(item)
         if os.path.isdir(path):
+            extensions = mesh_extensions() if extensions is None else extensions
             files = _search_directory(path, extensions, skipped)
             if not files:
                 unmatched.append(path)
@@ -142,6 +143,7 @@ def find_mesh_files(inputs: Iterable[str | os.PathLike]) -> FoundInputs:
             files = []
             for match in sorted(glob.glob(path, recursive=True)):
                 if os.path.isdir(match):
+                    extensions = mesh_extensions() if extensions is None else extensions
                     files.extend(_search_directory(match, extensions, skipped))
                 elif not _is_hidden(os.path.basename(match)) and not is_own_output(match):
                     files.append(match)

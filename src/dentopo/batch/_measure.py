@@ -10,6 +10,7 @@ error, while the other metrics of the row are kept, as molaR_Batch carries on.
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import warnings
@@ -17,11 +18,11 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
-import trimesh
 
 from ..ariadne import ariaDNE
 from ..formats import DOOLKIT_NAMES, METRIC_KEYS, SETTING_KEYS
 from ..mesh import as_arrays, clean_listed, load_mesh, read_ply
+from ..mesh._lazy import unbuilt
 from ..topography import (
     CLASSIC_KEYS,
     DOOLKIT_BASE_KEYS,
@@ -31,8 +32,6 @@ from ..topography import (
     ORIENTED,
     UNIT_DEPENDENT,
     UnitWarning,
-    angularity,
-    arc,
     check_alpha,
     check_arc_options,
     check_classic_options,
@@ -45,30 +44,12 @@ from ..topography import (
     check_opcr_options,
     check_orient,
     check_pcv_options,
-    classic_dne,
-    doolkit_arc,
-    doolkit_dne,
-    doolkit_opc,
-    doolkit_opcr,
-    doolkit_slope,
-    footprint_area,
-    hypsodonty,
-    inclination,
     millimetres_per_unit,
-    morphotester_dne,
-    morphotester_opcr,
-    morphotester_rfi,
     opc,
     opcr,
-    pcv,
     prepare_surface,
-    projected_rfi,
-    relief_index,
-    relief_rate_below_median,
-    rfi,
     rotation_key,
     rotations,
-    shape_index,
     slope,
 )
 from ._errors import failure_reason, names_step
@@ -393,6 +374,8 @@ def _prepared(mesh, options: TopographyOptions):
             if listed.cleaning.zero_area_faces == listed.cleaning.degenerate_faces:
                 raise ValueError("the mesh has no face of non-zero area")
             raise ValueError("cleaning left the mesh empty: every face is of no height")
+        import trimesh  # only for molaR's and doolkit's metrics, not for ariaDNE alone
+
         listed_mesh = trimesh.Trimesh(listed.vertices, listed.faces, process=False)
         surface = prepare_surface(listed_mesh, duplicates=options.duplicates)
     except OSError:
@@ -412,6 +395,15 @@ def _compute(metric: str, mesh, ariadne_options: dict, options: TopographyOption
     return _TOPOGRAPHY[metric](mesh, options)
 
 
+def _topography():
+    """:mod:`dentopo.topography`: its families are imported on their first metric (PEP 562).
+
+    Not imported by name at the top of this module, so that a run of ariaDNE alone does
+    not import them (nor trimesh and scipy, which they import).
+    """
+    return importlib.import_module("..topography", __package__)
+
+
 def _opcr(surface, options: TopographyOptions):
     return opcr(
         surface,
@@ -425,14 +417,14 @@ def _opcr(surface, options: TopographyOptions):
 
 #: ``compute(surface, options)`` of each topography metric.
 _TOPOGRAPHY = {
-    "classic": lambda surface, options: classic_dne(
+    "classic": lambda surface, options: _topography().classic_dne(
         surface,
         outliers=options.dne_outliers,
         boundary=options.dne_boundary,
         kappa=options.dne_kappa,
         orient=options.orient,
     ),
-    "rfi": lambda surface, options: rfi(
+    "rfi": lambda surface, options: _topography().rfi(
         surface, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient
     ),
     "opcr": _opcr,
@@ -440,45 +432,55 @@ _TOPOGRAPHY = {
         surface, min_faces=options.min_faces, min_area=options.min_area, orient=options.orient
     ),
     "slope": lambda surface, options: slope(surface, orient=options.orient),
-    "arc": lambda surface, options: arc(
+    "arc": lambda surface, options: _topography().arc(
         surface, boundary=options.arc_boundary, range=options.arc_range
     ),
-    "angularity": lambda surface, options: angularity(surface),
-    "doolkit_slope": lambda surface, options: doolkit_slope(surface),
-    "relief_index": lambda surface, options: relief_index(surface, orient=options.orient),
-    "inclination": lambda surface, options: inclination(surface, orient=options.orient),
-    "doolkit_opc": lambda surface, options: doolkit_opc(surface, orient=options.orient),
-    "doolkit_opcr": lambda surface, options: doolkit_opcr(surface, orient=options.orient),
-    "doolkit_arc": lambda surface, options: doolkit_arc(surface),
-    "doolkit_dne": lambda surface, options: doolkit_dne(surface),
-    "relief_rate": lambda surface, options: relief_rate_below_median(
+    "angularity": lambda surface, options: _topography().angularity(surface),
+    "doolkit_slope": lambda surface, options: _topography().doolkit_slope(surface),
+    "relief_index": lambda surface, options: _topography().relief_index(
         surface, orient=options.orient
     ),
-    "shape_index": lambda surface, options: shape_index(surface),
+    "inclination": lambda surface, options: _topography().inclination(
+        surface, orient=options.orient
+    ),
+    "doolkit_opc": lambda surface, options: _topography().doolkit_opc(
+        surface, orient=options.orient
+    ),
+    "doolkit_opcr": lambda surface, options: _topography().doolkit_opcr(
+        surface, orient=options.orient
+    ),
+    "doolkit_arc": lambda surface, options: _topography().doolkit_arc(surface),
+    "doolkit_dne": lambda surface, options: _topography().doolkit_dne(surface),
+    "relief_rate": lambda surface, options: _topography().relief_rate_below_median(
+        surface, orient=options.orient
+    ),
+    "shape_index": lambda surface, options: _topography().shape_index(surface),
     # doolkit's area2d (concave) and its convex counterpart
     "footprint": lambda surface, options: (
-        footprint_area(surface, hull="concave", orient=options.orient),
-        footprint_area(surface, hull="convex", orient=options.orient),
+        _topography().footprint_area(surface, hull="concave", orient=options.orient),
+        _topography().footprint_area(surface, hull="convex", orient=options.orient),
     ),
-    "hypsodonty": lambda surface, options: hypsodonty(surface),
+    "hypsodonty": lambda surface, options: _topography().hypsodonty(surface),
     # MorphoTester's, on the mesh as MorphoTester reads it (see _as_read)
-    "morphotester_dne": lambda mesh, options: morphotester_dne(
+    "morphotester_dne": lambda mesh, options: _topography().morphotester_dne(
         mesh,
         condition_check=options.mt_condition_check,
         outliers=None if options.mt_outliers == "off" else options.mt_outliers,
         percentile=options.mt_percentile,
         smooth=options.mt_smooth,
     ),
-    "morphotester_rfi": lambda mesh, options: morphotester_rfi(mesh),
-    "rfi_projected": lambda surface, options: projected_rfi(surface, orient=options.orient),
-    "pcv": lambda surface, options: pcv(
+    "morphotester_rfi": lambda mesh, options: _topography().morphotester_rfi(mesh),
+    "rfi_projected": lambda surface, options: _topography().projected_rfi(
+        surface, orient=options.orient
+    ),
+    "pcv": lambda surface, options: _topography().pcv(
         surface,
         rays=options.pcv_rays,
         hemisphere=options.pcv_hemisphere,
         method=options.pcv_method,
         orient=options.orient,
     ),
-    "morphotester_opcr": lambda mesh, options: morphotester_opcr(
+    "morphotester_opcr": lambda mesh, options: _topography().morphotester_opcr(
         mesh, min_patch=options.mt_min_patch
     ),
 }
@@ -632,7 +634,7 @@ def measure_mesh(
     if ORIENTED.intersection(metrics):
         record.setdefault("orientation", None)
     if surface is None and "ariadne" in results:  # ariaDNE alone: what its cleaning changed
-        cleaning = results["ariadne"].mesh.metadata.get("cleaning")
+        cleaning = unbuilt(results["ariadne"]).metadata.get("cleaning")  # not building it
         for note in cleaning.notes() if cleaning is not None else ():
             warnings.warn(note, UserWarning, stacklevel=2)
     record.update(options.settings(metrics))

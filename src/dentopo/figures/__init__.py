@@ -21,29 +21,63 @@ crown drawn by the previews).  Nothing from formats, batch,
 study or cli.
 """
 
-from ._camera import DEFAULT_VIEW, VIEW_NAMES, Camera, camera_for
-from ._colors import (
-    DEFAULT_PERCENTILE,
-    NEUTRAL,
-    OPC_COLORS,
-    ColorScale,
-    color_scale,
-    diverging_rgb,
-    slope_rgb,
-)
-from ._face_values import FACE_METRICS, FaceMetric, render_face_values
-from ._preparation import preview_sheet, render_preparation
-from ._provenance import read_provenance
-from ._render import (  # pyvista is imported only when a picture is drawn
-    DisplayUnavailableError,
-    has_display,
-    render_bandwidths,
-    render_comparison,
-    render_curvature,
-    render_panel,
-)
-from ._topography import render_footprint, render_opc, render_slope
-from ._views import VIEWS
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
+    from ._camera import DEFAULT_VIEW, VIEW_NAMES, Camera, camera_for
+    from ._colors import (
+        DEFAULT_PERCENTILE,
+        NEUTRAL,
+        OPC_COLORS,
+        ColorScale,
+        color_scale,
+        diverging_rgb,
+        slope_rgb,
+    )
+    from ._face_values import FACE_METRICS, FaceMetric, render_face_values
+    from ._preparation import preview_sheet, render_preparation
+    from ._provenance import read_provenance
+    from ._render import (  # pyvista is imported only when a picture is drawn
+        DisplayUnavailableError,
+        has_display,
+        render_bandwidths,
+        render_comparison,
+        render_curvature,
+        render_panel,
+    )
+    from ._topography import render_footprint, render_opc, render_slope
+    from ._views import VIEWS
+
+#: Where each public name lives: imported on its first use (PEP 562).
+_EXPORTS = {
+    "DEFAULT_VIEW": "._camera",
+    "VIEW_NAMES": "._camera",
+    "Camera": "._camera",
+    "camera_for": "._camera",
+    "DEFAULT_PERCENTILE": "._colors",
+    "NEUTRAL": "._colors",
+    "OPC_COLORS": "._colors",
+    "ColorScale": "._colors",
+    "color_scale": "._colors",
+    "diverging_rgb": "._colors",
+    "slope_rgb": "._colors",
+    "FACE_METRICS": "._face_values",
+    "FaceMetric": "._face_values",
+    "render_face_values": "._face_values",
+    "preview_sheet": "._preparation",
+    "render_preparation": "._preparation",
+    "read_provenance": "._provenance",
+    "DisplayUnavailableError": "._render",
+    "has_display": "._render",
+    "render_bandwidths": "._render",
+    "render_comparison": "._render",
+    "render_curvature": "._render",
+    "render_panel": "._render",
+    "render_footprint": "._topography",
+    "render_opc": "._topography",
+    "render_slope": "._topography",
+    "VIEWS": "._views",
+}
 
 __all__ = [
     "DEFAULT_PERCENTILE",
@@ -74,3 +108,18 @@ __all__ = [
     "render_slope",
     "slope_rgb",
 ]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

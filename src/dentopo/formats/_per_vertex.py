@@ -34,12 +34,15 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from numbers import Real
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from ..figures import DEFAULT_PERCENTILE, color_scale
 from ._atomic import atomic_write
+
+if TYPE_CHECKING:  # imported where a file is read back (writing needs no Trimesh)
+    import trimesh
 
 #: Suffix of the per-vertex files this tool writes (``tooth.dentopo.ply``);
 #: such files are never picked up as inputs from a directory.
@@ -487,6 +490,8 @@ def _mesh(vertices, faces, attributes: dict, colors=None, path: str = "") -> tri
             raise ValueError(
                 f"{path!r}: {name} has {len(values)} values for {len(vertices)} vertices"
             )
+    import trimesh
+
     return trimesh.Trimesh(
         vertices=vertices,
         faces=faces,
@@ -498,6 +503,8 @@ def _mesh(vertices, faces, attributes: dict, colors=None, path: str = "") -> tri
 
 
 def _read_ply(path: str) -> trimesh.Trimesh:
+    import trimesh
+
     loaded = trimesh.load(path, file_type="ply", process=False)
     raw = (loaded.metadata.get("_ply_raw") or {}).get("vertex", {}).get("data")
     attributes = {}

@@ -8,15 +8,19 @@ done on copies.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from ._faces import first_faces, vertex_areas, vertex_normals
+from ._lazy import LazyMesh, MeshLater
 from ._read import as_arrays
 from ._tolerance import length_scale, nondegenerate_faces
-from ._topology import boundary_edges, edge_uses, orient_consistently
+from ._topology import boundary_edges, edge_uses, orient_consistently, smallest_connected
+
+if TYPE_CHECKING:
+    import trimesh
 
 
 @dataclass(frozen=True)
@@ -25,8 +29,6 @@ class PreparedMesh:
 
     Attributes
     ----------
-    mesh : trimesh.Trimesh
-        The cleaned mesh, in the caller's units (a private copy).
     points : (n, 3) float
         Vertices translated to their mean and scaled to unit total area.
     vertex_area_raw : (n,) float
@@ -39,14 +41,18 @@ class PreparedMesh:
         consistently oriented mesh; it rescues meshes with flipped faces).
     scale : float
         The factor that maps mesh units to the unit-area scale.
+    mesh : trimesh.Trimesh
+        The cleaned mesh, in the caller's units (a private copy), what was
+        changed in ``mesh.metadata["cleaning"]``; built when it is first read
+        (:mod:`dentopo.mesh._lazy`: trimesh is not imported before).
     """
 
-    mesh: trimesh.Trimesh
     points: np.ndarray
     vertex_area_raw: np.ndarray
     vertex_area: np.ndarray
     normals: np.ndarray
     scale: float
+    mesh: trimesh.Trimesh = field(default=LazyMesh())
 
 
 def _may_have_small_holes(faces: np.ndarray, n_vertices: int) -> bool:
@@ -65,11 +71,7 @@ def _may_have_small_holes(faces: np.ndarray, n_vertices: int) -> bool:
     degree = np.bincount(edges.ravel(), minlength=n_vertices)
     if np.any(degree[degree > 0] != 2):
         return True
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n_vertices,) * 2)
-    _, label = connected_components(graph, directed=False)
+    label = smallest_connected(edges, n_vertices)  # no scipy: see smallest_connected
     loop_size = np.bincount(label[edges[:, 0]])
     return bool(np.any((loop_size > 0) & (loop_size < 5)))
 
@@ -210,7 +212,17 @@ def clean_listed(mesh) -> Listed:
 
 
 def _clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
-    """:func:`clean` for arrays that :func:`as_arrays` has validated.
+    """:func:`clean` for arrays that :func:`as_arrays` has validated."""
+    import trimesh  # only here: ariaDNE's run builds no Trimesh (see PreparedMesh)
+
+    vertices, faces, cleaning = _clean_arrays(vertices, faces)
+    cleaned = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
+    cleaned.metadata["cleaning"] = cleaning
+    return cleaned
+
+
+def _clean_arrays(vertices: np.ndarray, faces: np.ndarray):
+    """The cleaned ``(vertices, faces)`` of validated arrays, and their :class:`Cleaning`.
 
     trimesh's steps (``fill_holes``, bases excepted, ``update_faces(nondegenerate_faces)``,
     ``update_faces(unique_faces())``, ``remove_unreferenced_vertices``) with
@@ -225,9 +237,7 @@ def _clean(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:
         raise ValueError("cleaning left the mesh empty: every face is degenerate")
     if len(vertices) < 4:
         raise ValueError(f"cleaning left {len(vertices)} vertices; at least 4 are needed")
-    cleaned = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
-    cleaned.metadata["cleaning"] = cleaning
-    return cleaned
+    return vertices, faces, cleaning
 
 
 def _fill_and_keep(vertices: np.ndarray, faces: np.ndarray):
@@ -285,6 +295,8 @@ def _fill_small_holes(vertices: np.ndarray, faces: np.ndarray):
     -------
     vertices, faces, (holes filled, faces added, edge counts of the small bases kept open)
     """
+    import trimesh  # only for a mesh that may have small holes (and its networkx)
+
     filled = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
     filled.fill_holes()
     new_faces = np.asarray(filled.faces, dtype=np.int64)
@@ -345,10 +357,12 @@ def _referenced(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np
 def prepare(mesh) -> PreparedMesh:
     """Validate, clean and normalise any accepted mesh input (see `as_arrays`)."""
     vertices, faces = as_arrays(mesh)
-    cleaned = _clean(vertices, faces)
-    v = np.asarray(cleaned.vertices, dtype=np.float64)
+    vertices, faces, cleaning = _clean_arrays(vertices, faces)
+    # the arrays as trimesh.Trimesh(vertices, faces) holds them: float64 and int64, C order
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
     # vertex normals need neighbouring faces to agree; a no-op for consistent meshes
-    f = orient_consistently(np.asarray(cleaned.faces, dtype=np.int64), len(v))
+    f = orient_consistently(faces, len(v))
     area_raw = vertex_areas(v, f)
     total = float(area_raw.sum())
     if not total > 0:
@@ -356,7 +370,7 @@ def prepare(mesh) -> PreparedMesh:
     scale = 1.0 / np.sqrt(total)
     points = (v - v.mean(axis=0)) * scale
     return PreparedMesh(
-        mesh=cleaned,
+        mesh=MeshLater(v, faces, {"cleaning": cleaning}),
         points=points,
         vertex_area_raw=area_raw,
         vertex_area=area_raw / total,

@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import inspect
 import os
+import sys
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from ._ply import check_regular, open_regular, read_ply
 from ._tolerance import merge_vertices
 from ._validate import check_finite, check_indices, plural
+
+if TYPE_CHECKING:  # imported where a Trimesh is built or a non-PLY file read (about 0.5 s)
+    import trimesh
 
 #: ``geometry=ALL``: every mesh of a file, joined into one surface.
 ALL = "all"
@@ -83,6 +87,8 @@ def _checked(path: str, scene: trimesh.Scene) -> dict[str, trimesh.Trimesh]:
     coordinates and indices outside the vertices are errors, and vertices are
     merged with a tolerance relative to the mesh (see ``_tolerance``).
     """
+    import trimesh
+
     meshes = {}
     several = sum(isinstance(g, trimesh.Trimesh) for g in scene.geometry.values()) > 1
     for name, geometry in scene.geometry.items():
@@ -138,6 +144,8 @@ def _join(instances: list[_Instance]) -> trimesh.Trimesh:
     Merging rejoins a surface that the file stores in pieces (by material, or as
     several glTF primitives); meshes that share no vertex stay apart.
     """
+    import trimesh
+
     pieces = [i.world() for i in instances]
     joined = trimesh.util.concatenate(pieces) if len(pieces) > 1 else pieces[0]
     vertices, faces = merge_vertices(joined.vertices, joined.faces)
@@ -224,15 +232,10 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
     >>> crown = load_mesh("scan.glb", geometry="crown")  # doctest: +SKIP
     >>> ariaDNE(load_mesh("scan.glb", geometry="all")).dne  # doctest: +SKIP
     """
+    import trimesh
+
     geometry = check_geometry(geometry)
-    path = os.fspath(path)
-    if not os.path.exists(path):
-        raise FileNotFoundError(f"mesh file not found: {path!r}")
-    if os.path.isdir(path):
-        raise ValueError(f"{path!r} is a directory, not a mesh file")
-    check_regular(os.stat(path), path)  # a FIFO would block, a device never end
-    if os.path.getsize(path) == 0:
-        raise ValueError(f"mesh file is empty: {path!r}")
+    path = _checked_path(path)
     extension = os.path.splitext(path)[1].lower()
     if extension == ".ply":
         return _choose(path, _ply_instances(path), geometry)
@@ -254,8 +257,32 @@ def load_mesh(path: str | os.PathLike, *, geometry: str | None = None) -> trimes
     return _choose(path, instances, geometry)
 
 
+def _checked_path(path: str | os.PathLike) -> str:
+    """`path` as a string if it is a non-empty regular file; else :func:`load_mesh`'s error."""
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"mesh file not found: {path!r}")
+    if os.path.isdir(path):
+        raise ValueError(f"{path!r} is a directory, not a mesh file")
+    check_regular(os.stat(path), path)  # a FIFO would block, a device never end
+    if os.path.getsize(path) == 0:
+        raise ValueError(f"mesh file is empty: {path!r}")
+    return path
+
+
 def _ply_instances(path: str) -> list[_Instance]:
     """A PLY file as the one placement of one mesh, read by our strict reader and merged."""
+    import trimesh
+
+    vertices, faces = _ply_arrays(path)
+    name = os.path.basename(path)
+    metadata = {"file_name": name, "file_path": os.path.abspath(path)}
+    mesh = trimesh.Trimesh(vertices, faces, process=False, metadata=metadata)
+    return [_Instance(name, name, np.eye(4), mesh)]
+
+
+def _ply_arrays(path: str) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh of a PLY file read by our strict reader, coincident vertices merged."""
     vertices, faces = read_ply(path)
     if len(vertices) == 0:
         raise ValueError(f"{path!r} holds no triangle mesh (no vertices)")
@@ -264,11 +291,7 @@ def _ply_instances(path: str) -> list[_Instance]:
             f"{path!r} holds no triangle mesh, only PointCloud "
             f"({plural(len(vertices), 'vertex', 'vertices')}, no faces)"
         )
-    vertices, faces = merge_vertices(vertices, faces)
-    name = os.path.basename(path)
-    metadata = {"file_name": name, "file_path": os.path.abspath(path)}
-    mesh = trimesh.Trimesh(vertices, faces, process=False, metadata=metadata)
-    return [_Instance(name, name, np.eye(4), mesh)]
+    return merge_vertices(vertices, faces)
 
 
 def _check_obj_vertices(path: str) -> None:
@@ -323,11 +346,19 @@ def as_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
     ValueError
         If the arrays are empty, non-finite, not triangles, or index out of range.
     """
+    # trimesh is imported only if it has been already: an object cannot be one of its
+    # classes otherwise, and a PLY file's path is read without it (importing it takes 0.5 s)
+    trimesh = sys.modules.get("trimesh")
     if isinstance(mesh, (str, os.PathLike)):
-        mesh = load_mesh(mesh)
-    if isinstance(mesh, trimesh.Trimesh):
+        path = _checked_path(mesh)
+        if os.path.splitext(path)[1].lower() == ".ply":  # load_mesh's mesh, as arrays
+            mesh = _ply_arrays(path)
+        else:
+            mesh = load_mesh(path)
+            trimesh = sys.modules["trimesh"]
+    if trimesh is not None and isinstance(mesh, trimesh.Trimesh):
         vertices, faces = mesh.vertices, mesh.faces
-    elif isinstance(mesh, trimesh.PointCloud):
+    elif trimesh is not None and isinstance(mesh, trimesh.PointCloud):
         raise ValueError("a point cloud has no faces: ariaDNE needs a triangle mesh")
     elif isinstance(mesh, (tuple, list)) and len(mesh) == 2:
         vertices, faces = mesh

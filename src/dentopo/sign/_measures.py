@@ -39,13 +39,16 @@ functions on 30k vertices.  numpy, scipy, numba and trimesh only.
 from __future__ import annotations
 
 from numbers import Real
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
-from scipy.spatial import cKDTree
 
 from .._jit import njit
 from ..mesh import as_arrays, outward_faces
+
+if TYPE_CHECKING:  # imported where a curvature measure is computed (not by centroid signs)
+    import trimesh
+    from scipy.spatial import cKDTree
 
 KINDS = ("mean", "gaussian")
 
@@ -137,6 +140,8 @@ def curvature_measure(
     >>> bool((curvature_measure(sphere, "mean", 0.08) > 0).all())
     True
     """
+    import trimesh
+
     kind = _check_kind(kind)
     vertices, faces = as_arrays(mesh)
     faces = outward_faces(vertices, faces)
@@ -154,6 +159,8 @@ def _pairs(tree: cKDTree, points: np.ndarray, radius: float, start: int, stop: i
     whatever the chunk: the sums over them, and so the measures, do not
     depend on how the queries are cut into chunks.
     """
+    from scipy.spatial import cKDTree
+
     chunk = cKDTree(points[start:stop])
     pairs = chunk.sparse_distance_matrix(tree, radius, output_type="ndarray")
     return pairs["i"].astype(np.intp) + start, pairs["j"].astype(np.intp)
@@ -223,6 +230,8 @@ def _gaussian_measure(mesh: trimesh.Trimesh, radius: float) -> np.ndarray:
     The sum of ``mesh.vertex_defects`` over the vertices within `radius`;
     the same numbers as trimesh's function, without its per-point Python loop.
     """
+    from scipy.spatial import cKDTree
+
     vertices = np.asarray(mesh.vertices)
     defects = np.asarray(mesh.vertex_defects)
     tree = cKDTree(vertices)
@@ -272,6 +281,8 @@ def _mean_measure(mesh: trimesh.Trimesh, radius: float) -> np.ndarray:
     would widen that search for every vertex: they are searched for on their
     own, each among the vertices within reach of it, and added last.
     """
+    from scipy.spatial import cKDTree
+
     vertices = np.asarray(mesh.vertices)
     edges = np.asarray(mesh.face_adjacency_edges)
     if len(edges) == 0:

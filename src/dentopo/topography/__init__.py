@@ -29,6 +29,8 @@ May import: :mod:`dentopo.mesh`.  Nothing from ariadne, figures, formats, batch,
 study or cli.
 """
 
+from typing import TYPE_CHECKING
+
 from ._metrics import (
     ALIASES,
     ALL,
@@ -67,100 +69,194 @@ from ._parameters import (
     check_pcv_options,
 )
 from ._units import UNIT_DEPENDENT, UNITS, UnitWarning, millimetres_per_unit
-from .curvature._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
-from .curvature._arc import (
-    ARC_FIELDS,
-    DOOLKIT_ARC_FIELDS,
-    ARCResult,
-    DoolkitARCResult,
-    arc,
-    doolkit_arc,
-)
-from .dne._doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
-from .dne._molar import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
-from .dne._morphotester import (
-    MORPHOTESTER_DNE_FIELDS,
-    MorphoTesterDNEResult,
-    morphotester_dne,
-)
-from .footprint._doolkit import (
-    FOOTPRINT_FIELDS,
-    HULLS,
-    FootprintResult,
-    concave_hull,
-    convex_hull,
-    footprint_area,
-)
-from .footprint._projected import (
-    PROJECTED_FOOTPRINT_FIELDS,
-    ProjectedFootprintError,
-    ProjectedFootprintResult,
-    projected_footprint,
-)
-from .occlusion._pcv import PCV_FIELDS, PCVResult, pcv
-from .opc._doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
+
+# Not lazy: these two are named like their family (``slope``, ``opc``), and importing a
+# family's module would set the package's attribute of that name to the family.
 from .opc._molar import OPC_FIELDS, OPCResult, OPCRResult, opc, opcr
-from .opc._morphotester import (
-    MORPHOTESTER_OPCR_FIELDS,
-    MorphoTesterOPCRResult,
-    morphotester_opcr,
-)
-from .relief._doolkit import (
-    HYPSODONTY_FIELDS,
-    RELIEF_INDEX_FIELDS,
-    SHAPE_INDEX_FIELDS,
-    ElevationResult,
-    HypsodontyResult,
-    ReliefIndexResult,
-    ReliefRateResult,
-    ShapeIndexResult,
-    elevation,
-    hypsodonty,
-    r_round,
-    relief_index,
-    relief_rate,
-    relief_rate_below_median,
-    shape_index,
-)
-from .relief._molar import (
-    RFI_FIELDS,
-    AlphaAdjustmentError,
-    FootprintError,
-    FootprintWarning,
-    RFIResult,
-    rfi,
-)
-from .relief._morphotester import (
-    MORPHOTESTER_RFI_FIELDS,
-    MorphoTesterRFIResult,
-    morphotester_rfi,
-)
-from .relief._projected import PROJECTED_RFI_FIELDS, ProjectedRFIResult, projected_rfi
-from .slope._doolkit import (
-    DOOLKIT_SLOPE_FIELDS,
-    INCLINATION_FIELDS,
-    DoolkitSlopeResult,
-    InclinationResult,
-    doolkit_slope,
-    face_bearing,
-    inclination,
-)
 from .slope._molar import SLOPE_FIELDS, SlopeResult, slope
-from .surface._molar import (
-    DUPLICATE_MODES,
-    Surface,
-    check_duplicates,
-    molar_face_areas,
-    molar_scale,
-    prepare_surface,
-)
-from .surface._orientation import (
-    ORIENT_MODES,
-    Orientation,
-    check_orient,
-    find_orientation,
-    orient_vertices,
-)
+
+if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
+    from .curvature._angularity import ANGULARITY_FIELDS, AngularityResult, angularity
+    from .curvature._arc import (
+        ARC_FIELDS,
+        DOOLKIT_ARC_FIELDS,
+        ARCResult,
+        DoolkitARCResult,
+        arc,
+        doolkit_arc,
+    )
+    from .dne._doolkit import DOOLKIT_DNE_FIELDS, DoolkitDNEResult, doolkit_dne
+    from .dne._molar import CLASSIC_FIELDS, ClassicDNEResult, classic_dne
+    from .dne._morphotester import (
+        MORPHOTESTER_DNE_FIELDS,
+        MorphoTesterDNEResult,
+        morphotester_dne,
+    )
+    from .footprint._doolkit import (
+        FOOTPRINT_FIELDS,
+        HULLS,
+        FootprintResult,
+        concave_hull,
+        convex_hull,
+        footprint_area,
+    )
+    from .footprint._projected import (
+        PROJECTED_FOOTPRINT_FIELDS,
+        ProjectedFootprintError,
+        ProjectedFootprintResult,
+        projected_footprint,
+    )
+    from .occlusion._pcv import PCV_FIELDS, PCVResult, pcv
+    from .opc._doolkit import DoolkitOPCResult, DoolkitOPCRResult, doolkit_opc, doolkit_opcr
+    from .opc._morphotester import (
+        MORPHOTESTER_OPCR_FIELDS,
+        MorphoTesterOPCRResult,
+        morphotester_opcr,
+    )
+    from .relief._doolkit import (
+        HYPSODONTY_FIELDS,
+        RELIEF_INDEX_FIELDS,
+        SHAPE_INDEX_FIELDS,
+        ElevationResult,
+        HypsodontyResult,
+        ReliefIndexResult,
+        ReliefRateResult,
+        ShapeIndexResult,
+        elevation,
+        hypsodonty,
+        r_round,
+        relief_index,
+        relief_rate,
+        relief_rate_below_median,
+        shape_index,
+    )
+    from .relief._molar import (
+        RFI_FIELDS,
+        AlphaAdjustmentError,
+        FootprintError,
+        FootprintWarning,
+        RFIResult,
+        rfi,
+    )
+    from .relief._morphotester import (
+        MORPHOTESTER_RFI_FIELDS,
+        MorphoTesterRFIResult,
+        morphotester_rfi,
+    )
+    from .relief._projected import PROJECTED_RFI_FIELDS, ProjectedRFIResult, projected_rfi
+    from .slope._doolkit import (
+        DOOLKIT_SLOPE_FIELDS,
+        INCLINATION_FIELDS,
+        DoolkitSlopeResult,
+        InclinationResult,
+        doolkit_slope,
+        face_bearing,
+        inclination,
+    )
+    from .surface._molar import (
+        DUPLICATE_MODES,
+        Surface,
+        check_duplicates,
+        molar_face_areas,
+        molar_scale,
+        prepare_surface,
+    )
+    from .surface._orientation import (
+        ORIENT_MODES,
+        Orientation,
+        check_orient,
+        find_orientation,
+        orient_vertices,
+    )
+
+#: Where each family's public name lives: imported on its first use (PEP 562), so that a
+#: command measuring ariaDNE alone, or reading the metric names, loads no family (nor trimesh
+#: and scipy, which they import).
+_EXPORTS = {
+    "ANGULARITY_FIELDS": ".curvature._angularity",
+    "AngularityResult": ".curvature._angularity",
+    "angularity": ".curvature._angularity",
+    "ARC_FIELDS": ".curvature._arc",
+    "DOOLKIT_ARC_FIELDS": ".curvature._arc",
+    "ARCResult": ".curvature._arc",
+    "DoolkitARCResult": ".curvature._arc",
+    "arc": ".curvature._arc",
+    "doolkit_arc": ".curvature._arc",
+    "DOOLKIT_DNE_FIELDS": ".dne._doolkit",
+    "DoolkitDNEResult": ".dne._doolkit",
+    "doolkit_dne": ".dne._doolkit",
+    "CLASSIC_FIELDS": ".dne._molar",
+    "ClassicDNEResult": ".dne._molar",
+    "classic_dne": ".dne._molar",
+    "MORPHOTESTER_DNE_FIELDS": ".dne._morphotester",
+    "MorphoTesterDNEResult": ".dne._morphotester",
+    "morphotester_dne": ".dne._morphotester",
+    "FOOTPRINT_FIELDS": ".footprint._doolkit",
+    "HULLS": ".footprint._doolkit",
+    "FootprintResult": ".footprint._doolkit",
+    "concave_hull": ".footprint._doolkit",
+    "convex_hull": ".footprint._doolkit",
+    "footprint_area": ".footprint._doolkit",
+    "PROJECTED_FOOTPRINT_FIELDS": ".footprint._projected",
+    "ProjectedFootprintError": ".footprint._projected",
+    "ProjectedFootprintResult": ".footprint._projected",
+    "projected_footprint": ".footprint._projected",
+    "PCV_FIELDS": ".occlusion._pcv",
+    "PCVResult": ".occlusion._pcv",
+    "pcv": ".occlusion._pcv",
+    "DoolkitOPCResult": ".opc._doolkit",
+    "DoolkitOPCRResult": ".opc._doolkit",
+    "doolkit_opc": ".opc._doolkit",
+    "doolkit_opcr": ".opc._doolkit",
+    "MORPHOTESTER_OPCR_FIELDS": ".opc._morphotester",
+    "MorphoTesterOPCRResult": ".opc._morphotester",
+    "morphotester_opcr": ".opc._morphotester",
+    "HYPSODONTY_FIELDS": ".relief._doolkit",
+    "RELIEF_INDEX_FIELDS": ".relief._doolkit",
+    "SHAPE_INDEX_FIELDS": ".relief._doolkit",
+    "ElevationResult": ".relief._doolkit",
+    "HypsodontyResult": ".relief._doolkit",
+    "ReliefIndexResult": ".relief._doolkit",
+    "ReliefRateResult": ".relief._doolkit",
+    "ShapeIndexResult": ".relief._doolkit",
+    "elevation": ".relief._doolkit",
+    "hypsodonty": ".relief._doolkit",
+    "r_round": ".relief._doolkit",
+    "relief_index": ".relief._doolkit",
+    "relief_rate": ".relief._doolkit",
+    "relief_rate_below_median": ".relief._doolkit",
+    "shape_index": ".relief._doolkit",
+    "RFI_FIELDS": ".relief._molar",
+    "AlphaAdjustmentError": ".relief._molar",
+    "FootprintError": ".relief._molar",
+    "FootprintWarning": ".relief._molar",
+    "RFIResult": ".relief._molar",
+    "rfi": ".relief._molar",
+    "MORPHOTESTER_RFI_FIELDS": ".relief._morphotester",
+    "MorphoTesterRFIResult": ".relief._morphotester",
+    "morphotester_rfi": ".relief._morphotester",
+    "PROJECTED_RFI_FIELDS": ".relief._projected",
+    "ProjectedRFIResult": ".relief._projected",
+    "projected_rfi": ".relief._projected",
+    "DOOLKIT_SLOPE_FIELDS": ".slope._doolkit",
+    "INCLINATION_FIELDS": ".slope._doolkit",
+    "DoolkitSlopeResult": ".slope._doolkit",
+    "InclinationResult": ".slope._doolkit",
+    "doolkit_slope": ".slope._doolkit",
+    "face_bearing": ".slope._doolkit",
+    "inclination": ".slope._doolkit",
+    "DUPLICATE_MODES": ".surface._molar",
+    "Surface": ".surface._molar",
+    "check_duplicates": ".surface._molar",
+    "molar_face_areas": ".surface._molar",
+    "molar_scale": ".surface._molar",
+    "prepare_surface": ".surface._molar",
+    "ORIENT_MODES": ".surface._orientation",
+    "Orientation": ".surface._orientation",
+    "check_orient": ".surface._orientation",
+    "find_orientation": ".surface._orientation",
+    "orient_vertices": ".surface._orientation",
+}
 
 __all__ = [
     "ALIASES",
@@ -292,3 +388,18 @@ __all__ = [
     "shape_index",
     "slope",
 ]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

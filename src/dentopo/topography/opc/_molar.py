@@ -15,9 +15,9 @@ patch labelling.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from ..._html_repr import result_html
 from .._lazy import LazyMesh
@@ -27,6 +27,9 @@ from .._parameters import check_finite, check_int, check_min_area, check_opcr_op
 from ..surface import _kernels
 from ..surface._molar import Surface, prepare_surface
 from ..surface._orientation import Orientation, check_orient
+
+if TYPE_CHECKING:
+    import trimesh
 
 #: Number of aspect bins.
 BINS = 8

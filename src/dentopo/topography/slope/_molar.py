@@ -10,15 +10,18 @@ a mesh, so a crown pointing to -z gets slopes above 90 degrees.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from ..._html_repr import result_html
 from .._lazy import LazyMesh
 from ..surface import _kernels
 from ..surface._molar import prepare_surface
 from ..surface._orientation import Orientation, check_orient
+
+if TYPE_CHECKING:
+    import trimesh
 
 #: Scalar fields, in the order of output tables.
 SLOPE_FIELDS = ("slope",)

@@ -20,15 +20,18 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from ...mesh import as_arrays
 from .._lazy import MeshLater
 from .._parameters import check_choice
 from . import _kernels
 from ._orientation import TURN, Orientation, check_orient, survey
+
+if TYPE_CHECKING:
+    import trimesh
 
 #: molaR rescales a mesh so that its size measure is this.
 SIZE_TARGET = 100.0
@@ -117,6 +120,8 @@ class Surface:
 
     def trimesh(self) -> trimesh.Trimesh:
         """The cleaned mesh as a ``trimesh.Trimesh`` (not processed: faces as stored; a copy)."""
+        import trimesh
+
         return trimesh.Trimesh(self.vertices.copy(), self.faces.copy(), process=False)
 
     def mesh_later(self) -> MeshLater:
