@@ -20,6 +20,7 @@ from __future__ import annotations
 import ctypes
 import os
 import signal
+import subprocess
 import sys
 import threading
 
@@ -148,3 +149,16 @@ def test_an_interrupted_compilation_is_still_saved_to_the_cache():
     with event.install_listener("numba:compile", listener), pytest.raises(KeyboardInterrupt):
         kernel(1)
     assert listener.sent == 1 and len(saved) == 1
+
+
+@pytest.mark.parametrize(("given", "expected"), [(None, "PASSIVE"), ("ACTIVE", "ACTIVE")])
+def test_openmp_threads_sleep_between_kernels_unless_told_otherwise(given, expected):
+    # a spinning OpenMP thread takes a core from the serial work between dentopo's
+    # short kernels on a busy machine; a value the user set is kept
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    if given:
+        env["OMP_WAIT_POLICY"] = given
+    code = "import os, dentopo._jit; print(os.environ['OMP_WAIT_POLICY'])"
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == expected
