@@ -9,7 +9,7 @@ vertices (a spatial order keeps them close together): one search over the
 edge graph (CSR, edge lengths as weights) carries the group's distances side
 by side, so that the walk through the graph and the queue are shared by the
 group, and only the vertices within the radius of one of them are touched.
-The memory is linear in the number of vertices (a few arrays of ``n`` and one
+The memory is linear in the number of vertices (a few arrays of ``n`` and two
 of ``n * LANES`` per thread); no distance outlives its group.
 
 The distances are those of ``scipy.sparse.csgraph.dijkstra(graph,
