@@ -218,6 +218,9 @@ def _geodesic_sums(
                 visited,
                 seen,
             )
+            # the reached vertices' distances, lane by lane, and positions, compacted in the
+            # order they were reached (the lanes' loops below then read memory in order), and
+            # the scratch arrays made ready for the next group
             for m in range(reached):
                 j = seen[m]
                 for c in range(LANES):
