@@ -34,10 +34,10 @@ def searched(points, faces, radius, first, lanes):
     graph = edge_graph(points, faces)
     graph.sort_indices()
     n = len(points)
-    inv_step = 1.0 / _geodesic.bucket_width(graph.data, radius)
+    inv_step, ring = _geodesic.buckets(graph.data, radius)
     dist = np.full((n, _geodesic.LANES), np.inf)
     bucket = np.full(n, -1, np.int64)
-    head = np.full(int(radius * inv_step) + 2, -1, np.int64)
+    head = np.full(ring, -1, np.int64)
     scratch = [np.empty(n, np.int64) for _ in range(2)]
     visited = np.zeros(n, np.uint8)
     seen = np.empty(n, np.int64)
@@ -51,7 +51,7 @@ def searched(points, faces, radius, first, lanes):
     return dist[:, :lanes].T, graph
 
 
-@pytest.mark.parametrize("radius", [0.05, 0.2, 0.6, 10.0])
+@pytest.mark.parametrize("radius", [1e-50, 0.05, 0.2, 0.6, 10.0, 1e50])
 def test_search_distances_equal_scipy_dijkstra_bit_for_bit(radius):
     points, faces = noisy_sphere()
     n = len(points)

@@ -49,9 +49,9 @@ SECONDS_PER_CALL = 0.15
 #: Sources searched together (the lanes of one search; see ``_search``).
 LANES = 16
 
-#: Width of the search's buckets in mean edge lengths (see ``bucket_width``) ...
+#: Width of the search's buckets in mean edge lengths (see ``buckets``) ...
 BUCKET_EDGES = 2.0
-#: ... but no more buckets than this across the kernel radius.
+#: ... and the most buckets its ring holds.
 MAX_BUCKETS = 4096
 
 #: Groups of sources per thread in the first call, before the time per group is known.
@@ -104,9 +104,11 @@ def _search(
     vertex is expanded for all of them at once, each of its edges relaxing
     the lanes side by side.  The queue holds each vertex once, in bucket
     ``int(d * inv_step)`` of the least distance ``d`` improved since it was
-    last expanded (never behind the bucket being emptied): doubly linked lists
-    (``head``, ``nxt``, ``prv``; ``bucket[v]`` is -1 when ``v`` is not
-    queued), emptied in order, each until no vertex is left in it.  A vertex
+    last expanded (never behind the bucket being emptied, nor beyond the
+    ring's reach ahead of it): doubly linked lists in a ring of buckets
+    (``head``, ``nxt``, ``prv``; ``bucket[v]`` is ``v``'s slot in the ring,
+    -1 when ``v`` is not queued), emptied in order, each until no vertex is
+    left in it, until no vertex is queued.  A vertex
     is expanded again whenever one of its lanes improved: a label-correcting
     search, which ends where no edge can shorten any lane's distance, and so
     at each lane's least over all paths, exactly as Dijkstra (see the module
@@ -126,14 +128,20 @@ def _search(
         seen[n_seen] = s
         n_seen += 1
         _enqueue(s, 0, bucket, head, nxt, prv)
-    for k in range(head.shape[0]):
-        while head[k] >= 0:
-            u = head[k]
+    queued = lanes
+    ring = head.shape[0]
+    last = ring - 1.0
+    k = 0  # the bucket being emptied, in slot k % ring
+    while queued > 0:
+        slot = k % ring
+        while head[slot] >= 0:
+            u = head[slot]
             q = nxt[u]
-            head[k] = q
+            head[slot] = q
             if q >= 0:
                 prv[q] = -1
             bucket[u] = -1
+            queued -= 1
             for e in range(indptr[u], indptr[u + 1]):
                 v = indices[e]
                 length = lengths[e]
@@ -149,9 +157,15 @@ def _search(
                         visited[v] = 1
                         seen[n_seen] = v
                         n_seen += 1
-                    b = max(np.int64(best * inv_step), k)
-                    if bucket[v] < 0 or b < bucket[v]:
-                        _enqueue(v, b, bucket, head, nxt, prv)
+                    # bucket k at the earliest, k + ring - 1 at the latest (the ring's reach)
+                    t = best * inv_step - k
+                    b = k + (np.int64(t) if t < last else ring - 1) if t > 0 else k
+                    if bucket[v] < 0:
+                        queued += 1
+                        _enqueue(v, b % ring, bucket, head, nxt, prv)
+                    elif b < k + (bucket[v] - slot) % ring:
+                        _enqueue(v, b % ring, bucket, head, nxt, prv)
+        k += 1
     return n_seen
 
 
@@ -170,6 +184,7 @@ def _geodesic_sums(
     cutoff,
     radius,
     inv_step,
+    ring,
     sums,
     count,
 ):
@@ -186,11 +201,10 @@ def _geodesic_sums(
     caller and returns nothing (see the module docstring).
     """
     n = xs.shape[0]
-    n_buckets = np.int64(radius * inv_step) + 2
     for k in prange(threads):
         dist = np.full((n, LANES), np.inf)
         bucket = np.full(n, -1, np.int64)
-        head = np.full(n_buckets, -1, np.int64)
+        head = np.full(ring, -1, np.int64)
         nxt = np.empty(n, np.int64)
         prv = np.empty(n, np.int64)
         visited = np.zeros(n, np.uint8)
@@ -274,15 +288,20 @@ def _geodesic_sums(
                 count[s] = kept
 
 
-def bucket_width(lengths: np.ndarray, radius: float) -> float:
-    """The buckets' width: ``BUCKET_EDGES`` mean edges, ``radius / MAX_BUCKETS`` at least.
+def buckets(lengths: np.ndarray, radius: float) -> tuple[float, int]:
+    """``1 / width`` of the search's buckets and the number of them in its ring.
 
-    Wider buckets expand some vertices again (they are taken out in no
-    particular order within a bucket), narrower ones cost the scan of more
-    of them; the width changes the work, never the distances.
+    A bucket is ``BUCKET_EDGES`` mean edges wide: wider ones expand more
+    vertices again (they are taken out in no particular order within a
+    bucket), narrower ones cost the scan of more of them.  The ring holds the
+    buckets an edge can reach ahead of the one being emptied (the longest edge
+    within the radius), ``MAX_BUCKETS`` at most: a vertex further ahead waits
+    in the ring's last bucket.  Neither changes the distances, only the work.
     """
     mean = float(lengths.mean()) if len(lengths) else 0.0
-    return max(BUCKET_EDGES * mean, radius / MAX_BUCKETS)
+    width = BUCKET_EDGES * mean if mean > 0 else 1.0
+    longest = min(float(lengths.max()) if len(lengths) else 0.0, radius)
+    return 1.0 / width, int(min(MAX_BUCKETS, np.floor(longest / width) + 2))
 
 
 def geodesic_sums(
@@ -317,7 +336,7 @@ def geodesic_sums(
     sums = np.zeros((n, 10))
     count = np.zeros(n, np.int64)
     h2 = float(bandwidth) ** 2
-    inv_step = 1.0 / bucket_width(lengths, radius)
+    inv_step, ring = buckets(lengths, radius)
     groups = -(-n // LANES)
     threads = numba.get_num_threads()
     per_call = FIRST_GROUPS_PER_THREAD * threads
@@ -339,6 +358,7 @@ def geodesic_sums(
             float(cutoff),
             radius,
             inv_step,
+            ring,
             sums,
             count,
         )
