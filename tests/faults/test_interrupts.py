@@ -343,6 +343,7 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     crown = tooth(rings=8)
     for sign_method in ("centroid", "winding", "mean_curvature", "gaussian_curvature"):
         ariaDNE(crown, method="exact", sign_method=sign_method)
+    ariaDNE(crown, distance_type="geodesic")
     # the paths of large meshes: each vertex's row in full, the 3 x 3 solves in parallel
     from dentopo.ariadne import _eigen, _kernel
 

@@ -18,9 +18,10 @@ vertex (no cancellation); up to ``PAIRED_VERTICES`` vertices each pair is
 computed once and added to both of its vertices (``_half_sums``), above that
 each vertex's row in full (``_run_sums``, in linear memory).  Both add every
 vertex's terms in an order that does not depend on the number of threads.
-Geodesic and precomputed: blocks of rows (Dijkstra bounded by
-the radius on the sparse edge graph), with moments accumulated relative to the
-block's centre so that cancellation is limited to the block's extent.
+Geodesic: shortest-path searches over the sparse edge graph, bounded by the
+radius, accumulating relative to each vertex (``dentopo.ariadne._geodesic``).
+Precomputed: blocks of rows, with moments accumulated relative to the block's
+centre so that cancellation is limited to the block's extent.
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ import numpy as np
 from .._jit import njit, prange
 from ..mesh import spatial_order
 from ._exp import exp_neg
+from ._geodesic import geodesic_sums
 from ._parameters import check_bandwidth, check_cutoff
 
 if TYPE_CHECKING:
@@ -648,25 +650,33 @@ def geodesic_moments(
 ) -> KernelMoments:
     """Kernel moments with shortest-path distances along mesh edges.
 
-    Dijkstra runs from each block of source vertices, bounded by the kernel
-    radius, so only the vertices it reaches enter the sums.
+    Compiled searches bounded by the kernel radius (sixteen neighbouring
+    sources share one, their distances carried side by side) add the terms of
+    the vertices each source reaches, relative to the source (see
+    ``dentopo.ariadne._geodesic``): the distances are scipy's
+    ``dijkstra(edge_graph(points, faces), limit=radius)`` bit for bit, in
+    memory linear in the number of vertices.  The vertices are put in a
+    spatial order first, so that each search touches memory nearby.
     """
-    from scipy.sparse.csgraph import dijkstra
-
     bandwidth, cutoff = check_bandwidth(bandwidth), check_cutoff(cutoff)
+    points = np.ascontiguousarray(points, dtype=np.float64)
     n = len(points)
+    if n == 0:
+        return KernelMoments(*_empty(0))
     radius = kernel_radius(bandwidth, cutoff)
-    graph = edge_graph(points, faces)
     order = spatial_order(points)
-    out = _empty(n)
-    block_rows = max(1, min(BLOCK_ROWS, 4_000_000 // max(n, 1)))
-    for start in range(0, n, block_rows):
-        rows = order[start : start + block_rows]
-        dist = dijkstra(graph, directed=False, indices=rows, limit=radius)
-        cols = np.flatnonzero(np.isfinite(dist).any(axis=0))
-        sq_dist = dist[:, cols] ** 2  # inf ** 2 = inf, exp(-inf) = 0
-        _accumulate(out, rows, cols, sq_dist, points, bandwidth, cutoff, radius)
-    return KernelMoments(*out)
+    rank = np.empty(n, np.int64)
+    rank[order] = np.arange(n)
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    graph = edge_graph(points[order], rank[faces])
+    graph.sort_indices()
+    sums = np.empty((n, 10))
+    count = np.empty(n, np.int64)
+    sums[order], count[order] = geodesic_sums(
+        graph.indptr, graph.indices, graph.data, points[order], bandwidth, cutoff, radius
+    )
+    second = sums[:, [4, 5, 6, 5, 7, 8, 6, 8, 9]].reshape(-1, 3, 3)
+    return KernelMoments(sums[:, 0], sums[:, 1:4], second, count)
 
 
 def precomputed_moments(
