@@ -404,6 +404,47 @@ def _topography():
     return importlib.import_module("..topography", __package__)
 
 
+#: The topography metrics this module calls by name, imported on their first use.
+_LAZY_METRICS = frozenset(
+    (
+        "angularity",
+        "arc",
+        "classic_dne",
+        "doolkit_arc",
+        "doolkit_dne",
+        "doolkit_opc",
+        "doolkit_opcr",
+        "doolkit_slope",
+        "footprint_area",
+        "hypsodonty",
+        "inclination",
+        "morphotester_dne",
+        "morphotester_opcr",
+        "morphotester_rfi",
+        "pcv",
+        "projected_rfi",
+        "relief_index",
+        "relief_rate_below_median",
+        "rfi",
+        "shape_index",
+    )
+)
+
+
+def __getattr__(name: str):
+    """``rfi``, ``arc``, ...: the topography metric of that name, imported on first use."""
+    if name in _LAZY_METRICS:
+        return getattr(_topography(), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _metric(name: str):
+    """The metric function `name`: this module's own if one was set (a test replaces
+    ``_measure.rfi`` to make it fail), else :mod:`dentopo.topography`'s."""
+    own = globals().get(name)
+    return own if own is not None else getattr(_topography(), name)
+
+
 def _opcr(surface, options: TopographyOptions):
     return opcr(
         surface,
@@ -417,14 +458,14 @@ def _opcr(surface, options: TopographyOptions):
 
 #: ``compute(surface, options)`` of each topography metric.
 _TOPOGRAPHY = {
-    "classic": lambda surface, options: _topography().classic_dne(
+    "classic": lambda surface, options: _metric("classic_dne")(
         surface,
         outliers=options.dne_outliers,
         boundary=options.dne_boundary,
         kappa=options.dne_kappa,
         orient=options.orient,
     ),
-    "rfi": lambda surface, options: _topography().rfi(
+    "rfi": lambda surface, options: _metric("rfi")(
         surface, alpha=options.alpha, find_alpha=options.find_alpha, orient=options.orient
     ),
     "opcr": _opcr,
@@ -432,55 +473,51 @@ _TOPOGRAPHY = {
         surface, min_faces=options.min_faces, min_area=options.min_area, orient=options.orient
     ),
     "slope": lambda surface, options: slope(surface, orient=options.orient),
-    "arc": lambda surface, options: _topography().arc(
+    "arc": lambda surface, options: _metric("arc")(
         surface, boundary=options.arc_boundary, range=options.arc_range
     ),
-    "angularity": lambda surface, options: _topography().angularity(surface),
-    "doolkit_slope": lambda surface, options: _topography().doolkit_slope(surface),
-    "relief_index": lambda surface, options: _topography().relief_index(
+    "angularity": lambda surface, options: _metric("angularity")(surface),
+    "doolkit_slope": lambda surface, options: _metric("doolkit_slope")(surface),
+    "relief_index": lambda surface, options: _metric("relief_index")(
         surface, orient=options.orient
     ),
-    "inclination": lambda surface, options: _topography().inclination(
+    "inclination": lambda surface, options: _metric("inclination")(surface, orient=options.orient),
+    "doolkit_opc": lambda surface, options: _metric("doolkit_opc")(surface, orient=options.orient),
+    "doolkit_opcr": lambda surface, options: _metric("doolkit_opcr")(
         surface, orient=options.orient
     ),
-    "doolkit_opc": lambda surface, options: _topography().doolkit_opc(
+    "doolkit_arc": lambda surface, options: _metric("doolkit_arc")(surface),
+    "doolkit_dne": lambda surface, options: _metric("doolkit_dne")(surface),
+    "relief_rate": lambda surface, options: _metric("relief_rate_below_median")(
         surface, orient=options.orient
     ),
-    "doolkit_opcr": lambda surface, options: _topography().doolkit_opcr(
-        surface, orient=options.orient
-    ),
-    "doolkit_arc": lambda surface, options: _topography().doolkit_arc(surface),
-    "doolkit_dne": lambda surface, options: _topography().doolkit_dne(surface),
-    "relief_rate": lambda surface, options: _topography().relief_rate_below_median(
-        surface, orient=options.orient
-    ),
-    "shape_index": lambda surface, options: _topography().shape_index(surface),
+    "shape_index": lambda surface, options: _metric("shape_index")(surface),
     # doolkit's area2d (concave) and its convex counterpart
     "footprint": lambda surface, options: (
-        _topography().footprint_area(surface, hull="concave", orient=options.orient),
-        _topography().footprint_area(surface, hull="convex", orient=options.orient),
+        _metric("footprint_area")(surface, hull="concave", orient=options.orient),
+        _metric("footprint_area")(surface, hull="convex", orient=options.orient),
     ),
-    "hypsodonty": lambda surface, options: _topography().hypsodonty(surface),
+    "hypsodonty": lambda surface, options: _metric("hypsodonty")(surface),
     # MorphoTester's, on the mesh as MorphoTester reads it (see _as_read)
-    "morphotester_dne": lambda mesh, options: _topography().morphotester_dne(
+    "morphotester_dne": lambda mesh, options: _metric("morphotester_dne")(
         mesh,
         condition_check=options.mt_condition_check,
         outliers=None if options.mt_outliers == "off" else options.mt_outliers,
         percentile=options.mt_percentile,
         smooth=options.mt_smooth,
     ),
-    "morphotester_rfi": lambda mesh, options: _topography().morphotester_rfi(mesh),
-    "rfi_projected": lambda surface, options: _topography().projected_rfi(
+    "morphotester_rfi": lambda mesh, options: _metric("morphotester_rfi")(mesh),
+    "rfi_projected": lambda surface, options: _metric("projected_rfi")(
         surface, orient=options.orient
     ),
-    "pcv": lambda surface, options: _topography().pcv(
+    "pcv": lambda surface, options: _metric("pcv")(
         surface,
         rays=options.pcv_rays,
         hemisphere=options.pcv_hemisphere,
         method=options.pcv_method,
         orient=options.orient,
     ),
-    "morphotester_opcr": lambda mesh, options: _topography().morphotester_opcr(
+    "morphotester_opcr": lambda mesh, options: _metric("morphotester_opcr")(
         mesh, min_patch=options.mt_min_patch
     ),
 }
