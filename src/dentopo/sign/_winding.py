@@ -52,7 +52,7 @@ millions.  Needles (triangles much longer than their shortest edge) that are
 not long by that rule, but many, side by side, meet at one vertex (a fan: a
 cone's side, a hole's cap, a vertex shared by 1e5 faces) are cut too, into
 pieces that halve where queries come near them (``_strips._needle_bounds``): a query
-on the fan used to sum most of it exactly (250 s at 1e5 faces, 12 s now).
+on the fan used to sum most of it exactly (250 s at 1e5 faces, about 10 s of CPU now).
 Queries are processed in spatial order (adaptive, so a
 stray vertex does not spoil it), which keeps the parts of the hierarchy they
 visit in cache, in parallel, each alone: the values do not depend on the
