@@ -44,10 +44,23 @@ def _turn(g, f, s, tau):
 
 
 @njit(inline="always")
-def _negligible(app, aqq, apq):
-    """``apq`` too small to change either diagonal entry it couples (the classic test)."""
-    g = 100.0 * abs(apq)
-    return abs(app) + g == abs(app) and abs(aqq) + g == abs(aqq)
+def _zero(app, aqq, apq, g, f, v0p, v0q, v1p, v1q, v2p, v2q):
+    """The entries after zeroing ``apq``, and whether that took a rotation.
+
+    ``apq`` too small to change either diagonal entry it couples (``|a_pp| +
+    100 |a_pq| == |a_pp|``, and the same for ``a_qq``) is set to zero;
+    otherwise a rotation zeroes it, turning the diagonal pair, ``(g, f)`` (the
+    third row's entries in columns p and q) and the vectors' columns p and q.
+    """
+    t = 100.0 * abs(apq)
+    if abs(app) + t == abs(app) and abs(aqq) + t == abs(aqq):
+        return app, aqq, 0.0, g, f, v0p, v0q, v1p, v1q, v2p, v2q, False
+    s, tau, h = _rotation(app, aqq, apq)
+    g, f = _turn(g, f, s, tau)
+    v0p, v0q = _turn(v0p, v0q, s, tau)
+    v1p, v1q = _turn(v1p, v1q, s, tau)
+    v2p, v2q = _turn(v2p, v2q, s, tau)
+    return app - h, aqq + h, 0.0, g, f, v0p, v0q, v1p, v1q, v2p, v2q, True
 
 
 def _bending(covariance, normals, out):
@@ -74,44 +87,20 @@ def _bending(covariance, normals, out):
         for _ in range(MAX_SWEEPS):
             done = True
             if a01 != 0.0:  # p, q = 0, 1 (the third index: 2)
-                if _negligible(a00, a11, a01):
-                    a01 = 0.0
-                else:
-                    done = False
-                    s, tau, h = _rotation(a00, a11, a01)
-                    a00 -= h
-                    a11 += h
-                    a01 = 0.0
-                    a02, a12 = _turn(a02, a12, s, tau)
-                    v00, v01 = _turn(v00, v01, s, tau)
-                    v10, v11 = _turn(v10, v11, s, tau)
-                    v20, v21 = _turn(v20, v21, s, tau)
+                a00, a11, a01, a02, a12, v00, v01, v10, v11, v20, v21, turned = _zero(
+                    a00, a11, a01, a02, a12, v00, v01, v10, v11, v20, v21
+                )
+                done = done and not turned
             if a02 != 0.0:  # p, q = 0, 2 (the third index: 1)
-                if _negligible(a00, a22, a02):
-                    a02 = 0.0
-                else:
-                    done = False
-                    s, tau, h = _rotation(a00, a22, a02)
-                    a00 -= h
-                    a22 += h
-                    a02 = 0.0
-                    a01, a12 = _turn(a01, a12, s, tau)
-                    v00, v02 = _turn(v00, v02, s, tau)
-                    v10, v12 = _turn(v10, v12, s, tau)
-                    v20, v22 = _turn(v20, v22, s, tau)
+                a00, a22, a02, a01, a12, v00, v02, v10, v12, v20, v22, turned = _zero(
+                    a00, a22, a02, a01, a12, v00, v02, v10, v12, v20, v22
+                )
+                done = done and not turned
             if a12 != 0.0:  # p, q = 1, 2 (the third index: 0)
-                if _negligible(a11, a22, a12):
-                    a12 = 0.0
-                else:
-                    done = False
-                    s, tau, h = _rotation(a11, a22, a12)
-                    a11 -= h
-                    a22 += h
-                    a12 = 0.0
-                    a01, a02 = _turn(a01, a02, s, tau)
-                    v01, v02 = _turn(v01, v02, s, tau)
-                    v11, v12 = _turn(v11, v12, s, tau)
-                    v21, v22 = _turn(v21, v22, s, tau)
+                a11, a22, a12, a01, a02, v01, v02, v11, v12, v21, v22, turned = _zero(
+                    a11, a22, a12, a01, a02, v01, v02, v11, v12, v21, v22
+                )
+                done = done and not turned
             if done:
                 break
         lams = (a00, a11, a22)
