@@ -173,29 +173,15 @@ def border_vertex_flags(faces, flags):
     """Flag the two ends of every edge only one face uses (a border edge) in `flags`.
 
     The vertices :func:`boundary_ends` gives, without grouping the edges: the
-    3m directed edges bucketed by their lower vertex (a counting sort), then
-    in each bucket every higher vertex seen once is a border edge's.  `flags`
-    (n slots) comes all False.
+    3m directed edges bucketed by their lower vertex (:func:`_edge_buckets`),
+    then in each bucket every higher vertex seen once is a border edge's.
+    `flags` (n slots) comes all False.
     """
-    m = faces.shape[0]
     n = flags.shape[0]
     start = np.zeros(n + 1, dtype=np.int64)
-    for f in range(m):
-        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-        start[min(a, b) + 1] += 1
-        start[min(b, c) + 1] += 1
-        start[min(c, a) + 1] += 1
-    for v in range(n):
-        start[v + 1] += start[v]
-    fill = start[:-1].copy()
-    other = np.empty(3 * m, dtype=np.int64)
-    for f in range(m):
-        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-        for x, y in ((a, b), (b, c), (c, a)):
-            low = min(x, y)
-            other[fill[low]] = max(x, y)
-            fill[low] += 1
-    # fill is free again: the count of each higher vertex in the current bucket
+    other = np.empty(3 * faces.shape[0], dtype=np.int64)
+    _edge_buckets(faces, start, other, np.empty(3 * faces.shape[0], dtype=np.int64))
+    count = np.empty(n, dtype=np.int64)  # of each higher vertex in the current bucket
     stamp = np.full(n, -1, dtype=np.int64)
     for v in range(n):
         lo, hi = start[v], start[v + 1]
@@ -203,11 +189,11 @@ def border_vertex_flags(faces, flags):
             o = other[p]
             if stamp[o] != v:
                 stamp[o] = v
-                fill[o] = 0
-            fill[o] += 1
+                count[o] = 0
+            count[o] += 1
         for p in range(lo, hi):
             o = other[p]
-            if fill[o] == 1:
+            if count[o] == 1:
                 flags[v] = True
                 flags[o] = True
 
