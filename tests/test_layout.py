@@ -84,6 +84,7 @@ PRIVATE = {
     "dentopo._jit",
     "dentopo._html_repr",
     "dentopo._signals",
+    "dentopo._lazy_exports",
 }
 
 #: Public modules at the top level (``dentopo.NAME``) -> the subpackages they may import.  Each

@@ -18,6 +18,7 @@ what it may import, and the arrows run one way, from the bottom up:
 
 from typing import TYPE_CHECKING
 
+from ._lazy_exports import lazy_exports
 from ._version import __version__
 from .prepare import prepare  # light: the steps load on the first call
 
@@ -211,16 +212,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'dentopo' has no attribute {name!r}")
-    import importlib
-
-    value = getattr(importlib.import_module(module, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, __all__)

@@ -23,6 +23,8 @@ study or cli.
 
 from typing import TYPE_CHECKING
 
+from .._lazy_exports import lazy_exports
+
 if TYPE_CHECKING:  # the real imports, for type checkers and IDEs
     from ._camera import DEFAULT_VIEW, VIEW_NAMES, Camera, camera_for
     from ._colors import (
@@ -110,16 +112,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-
-    value = getattr(importlib.import_module(module, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, __all__)

@@ -31,6 +31,7 @@ study or cli.
 
 from typing import TYPE_CHECKING
 
+from .._lazy_exports import lazy_exports
 from ._metrics import (
     ALIASES,
     ALL,
@@ -390,16 +391,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-
-    value = getattr(importlib.import_module(module, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, __all__)
