@@ -300,3 +300,18 @@ def test_the_cloudcompare_method_matches_cloudcompare_on_every_crown(
     print(f"{key} ({orient}): mean relative difference {relative:.4%}, within 0.02 {close:.2%}")
     assert relative <= 0.002
     assert close >= 0.99
+
+
+@pytest.mark.parametrize("name", ["normal", "high"])
+def test_the_queries_kernel_equals_the_drawn_image_on_a_crown(name):
+    # the crowns' own sizes choose the queries' tiles (16 and 8 pixels): every tile path,
+    # every key of the height sort and every empty-pixel rule on a real scan, both ways up
+    path = MESHES / f"{name}.ply"
+    if not path.exists():
+        pytest.skip(f"the shared meshes are absent ({path})")
+    vertices, faces = read_ply(path)[:2]
+    directions = light_directions(256)
+    for turned in (vertices, vertices * TURN):
+        queries = lit_counts_depth_buffer(turned, faces, directions, path="queries")
+        image = lit_counts_depth_buffer(turned, faces, directions, path="image")
+        np.testing.assert_array_equal(queries, image)
