@@ -22,15 +22,25 @@ _BITS = 10
 _CELLS = (1 << _BITS) - 1
 
 
+def _spread(q: np.ndarray) -> np.ndarray:
+    """The 10 low bits of `q` (uint64) moved to every third bit: bit ``b`` to ``3 b``."""
+    q = (q | (q << np.uint64(16))) & np.uint64(0x030000FF)
+    q = (q | (q << np.uint64(8))) & np.uint64(0x0300F00F)
+    q = (q | (q << np.uint64(4))) & np.uint64(0x030C30C3)
+    return (q | (q << np.uint64(2))) & np.uint64(0x09249249)
+
+
 def _morton_order(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Stable Morton order over the points' bounding box, and the sorted cell codes."""
+    """Stable Morton order over the points' bounding box, and the sorted cell codes.
+
+    A cell's code interleaves its three 10-bit coordinates, bit ``b`` of axis ``a`` at bit
+    ``3 b + a`` (spread with masks: a few array operations, not one per bit).
+    """
     lo = points.min(axis=0)
     span = float(np.max(points.max(axis=0) - lo)) or 1.0
     q = ((points - lo) / span * _CELLS).astype(np.uint64)
-    code = np.zeros(len(points), dtype=np.uint64)
-    for bit in range(_BITS):
-        for axis in range(3):
-            code |= ((q[:, axis] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(3 * bit + axis)
+    code = _spread(q[:, 0]) | (_spread(q[:, 1]) << np.uint64(1))
+    code |= _spread(q[:, 2]) << np.uint64(2)
     order = np.argsort(code, kind="stable")
     return order, code[order]
 
