@@ -162,3 +162,50 @@ def test_openmp_threads_sleep_between_kernels_unless_told_otherwise(given, expec
     done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == expected
+
+
+_LEAN = """
+import sys
+from dentopo._jit import lean_numba_typing, njit
+loaded = lean_numba_typing()
+print(loaded)
+print("cffi" in sys.modules, "scipy.linalg" in sys.modules)
+from numba.core.typing import cffi_utils
+print(cffi_utils.SUPPORTED)
+
+@njit
+def total(a):
+    s = 0.0
+    for x in a:
+        s += x
+    return s
+
+import numpy as np
+print(total(np.arange(4.0)))
+import scipy.linalg  # both stay importable for every other use
+print(scipy.linalg.det(np.eye(2)))
+print(lean_numba_typing())  # a second call: nothing left to do
+"""
+
+
+def test_the_command_loads_numbas_typing_without_cffi_and_scipy():
+    # what the main command does first: numba's cffi support and its BLAS probe loaded as
+    # where cffi and scipy are missing (0.14 s of a warm start), both still importable
+    done = subprocess.run([sys.executable, "-c", _LEAN], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0] == "['numba.core.typing.cffi_utils', 'numba.np.arraymath']"
+    assert lines[1] == "False False"  # neither was imported on the way
+    assert lines[2] == "False"  # numba types no cffi object in that process
+    assert lines[3] == "6.0"  # kernels compile and run
+    assert lines[4] == "1.0"
+    assert lines[5] == "[]"
+
+
+def test_the_main_command_calls_it_before_its_first_kernel(monkeypatch):
+    from dentopo.cli import _compute
+
+    calls = []
+    monkeypatch.setattr(_compute, "lean_numba_typing", lambda: calls.append(1) or [])
+    assert _compute.compute_main(["--version"]) == 0
+    assert calls == [1]
