@@ -238,3 +238,15 @@ def test_metric_groups_share_every_metric_once(processes):
     if processes > 1:
         costs = [sum(_warmup.COMPILE_SECONDS[m] for m in group) for group in groups]
         assert max(costs) < sum(costs)  # shared, not all in one
+
+
+def test_the_warm_up_extras_run_without_an_error():
+    # the warm-up swallows an extra's error (what ran is compiled); a wrong call there would
+    # silently leave a kernel to compile in the middle of a batch: run them as they are
+    from dentopo.batch import make_settings
+    from dentopo.batch._warmup import _large_mesh_paths, _rfi_arcs
+    from dentopo.samples import sample_paths
+
+    tooth = str(sample_paths()["tooth"])
+    _large_mesh_paths(tooth, make_settings())
+    _rfi_arcs(tooth, make_settings(metrics=["rfi"]))

@@ -250,7 +250,7 @@ def _large_mesh_paths(path: str, settings: Settings) -> None:
     options = {**settings.options(), "method": "fast"}
     ariaDNE(path, **options)
     covariance = np.tile(np.eye(3), (4, 1, 1))
-    _bending_parallel(covariance, np.ones((4, 3)), np.empty((4, 2, 3, 3)), np.empty(4))
+    _bending_parallel(covariance, np.ones((4, 3)), np.empty(4))
 
 
 #: The alpha at which the jittered sample's alpha hull holds (molaR's 0.075 fails on it).

@@ -44,11 +44,11 @@ def _cut_strips(tri, ptr, bounds, out):
     orientation: 1 + 2 (pieces - 1) triangles, written to `out` (nothing is
     returned, see ``_hierarchy._layout``).
     """
-    k = 0
+    k = np.int64(0)  # int64 values, not literals (see c0 below)
     for t in range(tri.shape[0]):
         count = ptr[t + 1] - ptr[t] - 1
         # apex: the vertex opposite the shortest edge
-        best = 0
+        best = np.int64(0)
         shortest = np.inf
         for a in range(3):
             b = (a + 1) % 3
@@ -62,22 +62,25 @@ def _cut_strips(tri, ptr, bounds, out):
         apex = best  # corners of tri[t]: the apex and the ends of its far edge
         va = (best + 1) % 3
         vb = (best + 2) % 3
+        # the corners of out[k] as int64 values, not literals: one compilation of _along,
+        # not one per literal (numba types a constant argument as its literal first)
+        c0, c1, c2 = np.int64(0), np.int64(1), np.int64(2)
         for s in range(count):
             s0 = bounds[ptr[t] + s]
             s1 = bounds[ptr[t] + s + 1]
             if s == 0:
                 for x in range(3):
                     out[k, 0, x] = tri[t, apex, x]
-                _along(tri, t, apex, va, s1, out, k, 1)
-                _along(tri, t, apex, vb, s1, out, k, 2)
+                _along(tri, t, apex, va, s1, out, k, c1)
+                _along(tri, t, apex, vb, s1, out, k, c2)
                 k += 1
                 continue
-            _along(tri, t, apex, va, s0, out, k, 0)
-            _along(tri, t, apex, va, s1, out, k, 1)
-            _along(tri, t, apex, vb, s1, out, k, 2)
-            _along(tri, t, apex, va, s0, out, k + 1, 0)
-            _along(tri, t, apex, vb, s1, out, k + 1, 1)
-            _along(tri, t, apex, vb, s0, out, k + 1, 2)
+            _along(tri, t, apex, va, s0, out, k, c0)
+            _along(tri, t, apex, va, s1, out, k, c1)
+            _along(tri, t, apex, vb, s1, out, k, c2)
+            _along(tri, t, apex, va, s0, out, k + 1, c0)
+            _along(tri, t, apex, vb, s1, out, k + 1, c1)
+            _along(tri, t, apex, vb, s0, out, k + 1, c2)
             k += 2
 
 
