@@ -241,16 +241,11 @@ def _compute_sample(settings: Settings) -> float:
 
 def _large_mesh_paths(path: str, settings: Settings) -> None:
     """What ariaDNE runs on a large mesh only: the fast kernel sums (``method="auto"`` from
-    20,000 vertices) and the eigen-solver on several threads (from 50,000)."""
-    import numpy as np
-
+    20,000 vertices).  (Its eigen-solver on several threads is the same compiled kernel.)"""
     from ..ariadne import ariaDNE
-    from ..ariadne._eigen import _bending_parallel
 
     options = {**settings.options(), "method": "fast"}
     ariaDNE(path, **options)
-    covariance = np.tile(np.eye(3), (4, 1, 1))
-    _bending_parallel(covariance, np.ones((4, 3)), np.empty(4))
 
 
 #: The alpha at which the jittered sample's alpha hull holds (molaR's 0.075 fails on it).
