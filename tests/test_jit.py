@@ -209,3 +209,25 @@ def test_the_main_command_calls_it_before_its_first_kernel(monkeypatch):
     monkeypatch.setattr(_compute, "lean_numba_typing", lambda: calls.append(1) or [])
     assert _compute.compute_main(["--version"]) == 0
     assert calls == [1]
+
+
+def test_in_threads_runs_every_part_once_and_raises_the_first_error():
+    seen = []
+    lock = threading.Lock()
+
+    def call(a, b):
+        with lock:
+            seen.append((a, b, threading.current_thread() is threading.main_thread()))
+
+    _jit.in_threads([0, 3, 7, 10], call)
+    assert sorted((a, b) for a, b, _ in seen) == [(0, 3), (3, 7), (7, 10)]
+    seen.clear()
+    _jit.in_threads([0, 10], call)  # one part: in the calling thread
+    assert seen == [(0, 10, True)]
+
+    def failing(a, b):
+        if a == 3:
+            raise ValueError("part 3:7")
+
+    with pytest.raises(ValueError, match="part 3:7"):
+        _jit.in_threads([0, 3, 7, 10], failing)

@@ -12,9 +12,10 @@ moment, which ``_winding._far_field`` reads.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
-from .._jit import njit, prange
+from .._jit import in_threads, njit
 from ._strips import _edge_extremes, _long_strips
 
 #: Triangles per leaf of the hierarchy.
@@ -191,25 +192,42 @@ def _kd_order(centres, link, lo, hi, level, perm, per_call=None):
     _by_levels(
         len(level) - 1,
         per_call,
-        lambda first, last: _kd_levels(centres, link, lo, hi, level, perm, first, last),
+        lambda first, last: _in_levels(
+            level,
+            first,
+            last,
+            len(centres),
+            lambda a, b: _kd_nodes(centres, link, lo, hi, perm, a, b),
+        ),
         items=len(centres),
     )
 
 
-@njit(cache=True, parallel=True)
-def _kd_levels(centres, link, lo, hi, level, perm, first, last):
-    """``_kd_order`` for the levels ``first:last``: the nodes of a level in parallel on
-    large meshes (each owns its rows: the order does not depend on the threads).
-    Nothing is returned (see ``_layout``).
+def _in_levels(level, first: int, last: int, items: int, call, reverse: bool = False) -> None:
+    """``call(a, b)`` over the nodes ``a:b`` of the levels ``first:last``.
+
+    Below ``PARALLEL_BUILD`` items in one call (the kernel takes its nodes in the order a
+    pass needs: a parent before its children top down, after them bottom up, the nodes
+    being numbered level by level); above, level by level (the deepest first with
+    `reverse`), each level's nodes cut among numba's threads (each node owns its rows and
+    its record: the result does not depend on the threads).
     """
-    parallel = centres.shape[0] >= PARALLEL_BUILD
-    for depth in range(first, last):
-        if parallel and level[depth + 1] - level[depth] > 1:
-            for node in prange(level[depth], level[depth + 1]):
-                _kd_split(centres, link, lo, hi, perm, node)
-        else:
-            for node in range(level[depth], level[depth + 1]):
-                _kd_split(centres, link, lo, hi, perm, node)
+    if items < PARALLEL_BUILD:
+        call(int(level[first]), int(level[last]))
+        return
+    threads = numba.get_num_threads()
+    for depth in range(last - 1, first - 1, -1) if reverse else range(first, last):
+        a, b = int(level[depth]), int(level[depth + 1])
+        parts = max(1, min(threads, b - a))
+        in_threads(np.linspace(a, b, parts + 1).astype(np.int64).tolist(), call)
+
+
+@njit(cache=True, nogil=True)
+def _kd_nodes(centres, link, lo, hi, perm, first, last):
+    """``_kd_order`` for the nodes ``first:last``, in order (a parent before its children).
+    Nothing is returned (see ``_layout``)."""
+    for node in range(first, last):
+        _kd_split(centres, link, lo, hi, perm, node)
 
 
 @njit(cache=True)
@@ -346,53 +364,52 @@ def _summarise(tri, lo, hi, link, level, nodes, packed, weight, per_call=None):
     (``ITEMS_PER_CALL``): a level needs only the one below it.
     """
     depths = len(level) - 1
+    items = len(tri)
     _by_levels(
         depths,
         per_call,
-        lambda first, last: _combine_levels(
-            tri, lo, hi, link, level, nodes, packed, weight, first, last
+        lambda first, last: _in_levels(
+            level,
+            first,
+            last,
+            items,
+            lambda a, b: _combine_nodes(tri, lo, hi, link, nodes, packed, weight, a, b),
+            reverse=True,
         ),
         reverse=True,
-        items=len(tri),
+        items=items,
     )
     _by_levels(
         depths,
         per_call,
-        lambda first, last: _radius_levels(tri, lo, hi, link, level, nodes, packed, first, last),
-        items=len(tri),
+        lambda first, last: _in_levels(
+            level,
+            first,
+            last,
+            items,
+            lambda a, b: _radius_nodes(tri, lo, hi, link, nodes, packed, a, b),
+        ),
+        items=items,
     )
 
 
-@njit(cache=True, parallel=True)
-def _combine_levels(tri, lo, hi, link, level, nodes, packed, weight, first, last):
-    """The sums of the nodes of levels ``first:last``, the deepest first (``_combine``);
-    a level's nodes in parallel on large meshes.  Nothing is returned (see ``_layout``).
-    """
-    parallel = tri.shape[0] >= PARALLEL_BUILD
-    for depth in range(last - 1, first - 1, -1):
-        if parallel and level[depth + 1] - level[depth] > 1:
-            for node in prange(level[depth], level[depth + 1]):
-                _combine(tri, lo, hi, link, nodes, packed, weight, node, np.empty(13))
-        else:
-            sums = np.empty(13)
-            for node in range(level[depth], level[depth + 1]):
-                _combine(tri, lo, hi, link, nodes, packed, weight, node, sums)
+@njit(cache=True, nogil=True)
+def _combine_nodes(tri, lo, hi, link, nodes, packed, weight, first, last):
+    """The sums of the nodes ``first:last`` (``_combine``), the last first (children
+    before their parent).  Nothing is returned (see ``_layout``)."""
+    sums = np.empty(13)
+    for node in range(last - 1, first - 1, -1):
+        _combine(tri, lo, hi, link, nodes, packed, weight, node, sums)
 
 
-@njit(cache=True, parallel=True)
-def _radius_levels(tri, lo, hi, link, level, nodes, packed, first, last):
-    """The radii of the inner nodes of levels ``first:last`` (``_inner_radius``).
+@njit(cache=True, nogil=True)
+def _radius_nodes(tri, lo, hi, link, nodes, packed, first, last):
+    """The radii of the inner nodes among ``first:last`` (``_inner_radius``).
 
     Nothing is returned (see ``_layout``).
     """
-    parallel = tri.shape[0] >= PARALLEL_BUILD
-    for depth in range(first, last):
-        if parallel and level[depth + 1] - level[depth] > 1:
-            for node in prange(level[depth], level[depth + 1]):
-                _inner_radius(tri, lo, hi, link, nodes, packed, node)
-        else:
-            for node in range(level[depth], level[depth + 1]):
-                _inner_radius(tri, lo, hi, link, nodes, packed, node)
+    for node in range(first, last):
+        _inner_radius(tri, lo, hi, link, nodes, packed, node)
 
 
 @njit(cache=True)
