@@ -400,14 +400,17 @@ def _consistent_boundary(faces: np.ndarray, n_vertices: int) -> np.ndarray | Non
     if faces.min() < 0 or faces.max() >= n_vertices:
         return None  # the general path says what is wrong
     boundary = np.empty(3 * len(faces), dtype=np.bool_)
-    if not _reverse_missing(faces, n_vertices, boundary):
+    # the edges' ends in the index type of corners_by_vertex's (int32 below 2**31 vertices):
+    # one compilation of sort_ints serves both
+    target = np.empty(3 * len(faces), dtype=_index_type(n_vertices))
+    if not _reverse_missing(faces, n_vertices, boundary, target):
         return None
     corner, face = np.divmod(np.flatnonzero(boundary), len(faces))  # e = corner * m + face
     return np.stack([faces[face, corner], faces[face, (corner + 1) % 3]], axis=1)
 
 
 @njit(cache=True)
-def _reverse_missing(faces, n, boundary):
+def _reverse_missing(faces, n, boundary, target):
     """``boundary[e]``: no face has the reverse of directed edge e (the order of
     ``_directed_edges``; an edge from a vertex to itself is its own reverse and
     counts as a boundary, as in ``boundary_edges``).
@@ -424,8 +427,7 @@ def _reverse_missing(faces, n, boundary):
     for v in range(n):
         start[v + 1] += start[v]
     fill = start[:-1].copy()
-    target = np.empty(3 * m, np.int64)
-    for f in range(m):
+    for f in range(m):  # target (3 m,): each vertex's outgoing edges' ends, the caller's array
         for a in range(3):
             u = faces[f, a]
             target[fill[u]] = faces[f, (a + 1) % 3]
