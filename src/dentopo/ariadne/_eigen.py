@@ -14,11 +14,9 @@ two eigenvectors) go to the same eigenpair as with ``eigh``: the first one.
 
 from __future__ import annotations
 
-from itertools import pairwise
-
 import numpy as np
 
-from .._jit import njit
+from .._jit import in_threads, njit
 
 #: Jacobi sweeps at most; a 3 x 3 matrix converges in about four.
 MAX_SWEEPS = 50
@@ -132,12 +130,13 @@ def _bending(covariance, normals, out):
         out[i] = pick / trace if trace > 0 else 0.0
 
 
-#: The compiled loop, without the GIL: threads (each a slice of the rows) pay off from this
-#: many vertices on (starting them costs more than 2,000 solves, on a busy machine much
-#: more).  One compiled kernel for both: a ``prange`` copy of it compiled in 0.9 s more on a
-#: fresh install, for the same bits (each row is solved alone).
+#: The compiled loop, without the GIL: from this many vertices on, slices of the rows on
+#: numba's threads (``dentopo._jit.in_threads``: a pool kept from call to call, so a slice
+#: costs tens of microseconds; normal.ply's 4,050 solves, 1.5 ms on one thread, take 0.8
+#: on two).  One compiled kernel for both: a ``prange`` copy of it compiled in 0.9 s more
+#: on a fresh install, for the same bits (each row is solved alone).
 _bending_compiled = njit(cache=True, nogil=True)(_bending)
-PARALLEL_VERTICES = 50_000
+PARALLEL_VERTICES = 2_048
 
 
 def _solve(covariance: np.ndarray, normals: np.ndarray, out: np.ndarray) -> None:
@@ -146,19 +145,8 @@ def _solve(covariance: np.ndarray, normals: np.ndarray, out: np.ndarray) -> None
 
     n = len(covariance)
     parts = numba.get_num_threads() if n >= PARALLEL_VERTICES else 1
-    if parts <= 1:
-        _bending_compiled(covariance, normals, out)
-        return
-    from concurrent.futures import ThreadPoolExecutor
-
     bounds = np.linspace(0, n, parts + 1).astype(np.int64).tolist()
-    with ThreadPoolExecutor(max_workers=parts) as pool:
-        parts_done = [
-            pool.submit(_bending_compiled, covariance[a:b], normals[a:b], out[a:b])
-            for a, b in pairwise(bounds)
-        ]
-        for done in parts_done:
-            done.result()
+    in_threads(bounds, lambda a, b: _bending_compiled(covariance[a:b], normals[a:b], out[a:b]))
 
 
 def bending(covariance: np.ndarray, normals: np.ndarray) -> np.ndarray:

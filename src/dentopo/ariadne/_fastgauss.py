@@ -68,7 +68,7 @@ from itertools import pairwise
 
 import numpy as np
 
-from .._jit import njit
+from .._jit import in_threads, njit
 from .._optional import FAST_METHOD
 from ._kernel import (
     COUNTED_UP_TO,
@@ -504,7 +504,7 @@ def _raw_moments(finufft, shape, coords, offset, gauss, tolerance, nthreads):
     return np.ascontiguousarray(s0), first, second
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _jacobi_bending(second, weight, normals, out):  # pragma: no cover
     """``lambda / trace`` per vertex by cyclic Jacobi rotations (see :func:`bending`).
 
@@ -591,14 +591,24 @@ def bending(moments: KernelMoments, normals: np.ndarray) -> np.ndarray:
     -------
     (n,) float
     """
-    out = np.empty(len(moments.weight))
-    _jacobi_bending(
-        np.ascontiguousarray(moments.second, dtype=np.float64),
-        np.ascontiguousarray(moments.weight, dtype=np.float64),
-        np.ascontiguousarray(normals, dtype=np.float64),
-        out,
+    import numba
+
+    second = np.ascontiguousarray(moments.second, dtype=np.float64)
+    weight = np.ascontiguousarray(moments.weight, dtype=np.float64)
+    normals = np.ascontiguousarray(normals, dtype=np.float64)
+    out = np.empty(len(weight))
+    # each vertex alone: slices of the rows on numba's threads give the same bits
+    parts = numba.get_num_threads() if len(out) >= PARALLEL_BENDING else 1
+    bounds = np.linspace(0, len(out), parts + 1).astype(np.int64).tolist()
+    in_threads(
+        bounds,
+        lambda a, b: _jacobi_bending(second[a:b], weight[a:b], normals[a:b], out[a:b]),
     )
     return out
+
+
+#: From this many vertices on, :func:`bending` runs on numba's threads (1M: 0.37 -> 0.2 s).
+PARALLEL_BENDING = 2_048
 
 
 METHODS = ("auto", "exact", "fast")
