@@ -509,7 +509,11 @@ def _ordered_triangles(
     _kd_order(centres, link, lo, hi, level, perm)
     del centres, lo, hi, link, level
     tri = np.empty((n, 3, 3))
-    _gather(vertices, faces, keep, cut, perm, tri)
+    parts = numba.get_num_threads() if n >= PARALLEL_BUILD else 1
+    in_threads(  # each row alone: the same array on any number of threads
+        np.linspace(0, n, parts + 1).astype(np.int64).tolist(),
+        lambda a, b: _gather(vertices, faces, keep, cut, perm[a:b], tri[a:b]),
+    )
     return tri
 
 
@@ -529,7 +533,7 @@ def _item_centres(vertices, faces, keep, cut, out):
                 out[i, x] = cut[j, 0, x] + cut[j, 1, x] + cut[j, 2, x]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _gather(vertices, faces, keep, cut, perm, out):
     """``out[k]``: the triangle of item ``perm[k]`` (a kept face, or a strip)."""
     n_keep = keep.shape[0]
