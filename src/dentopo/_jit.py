@@ -210,8 +210,9 @@ def in_threads(bounds, call) -> None:
     For kernels compiled with ``nogil=True`` over parts of their rows: one compiled kernel
     serves one thread and many, where a ``prange`` loop is a second compilation of the
     same body (0.5 to 0.9 s each on a fresh install).  Where a loop is hot and short (the
-    winding numbers' queries) ``prange`` stays: OpenMP's threads measured 8 % faster there.  Returns when every part is done;
-    the first error is raised.  With one part it runs in the calling thread.
+    winding numbers' queries) ``prange`` stays: OpenMP's threads measured 8 % faster there.
+    Returns when every part is done; the first error is raised.  With one part it runs in
+    the calling thread.
     """
     pairs = list(pairwise(bounds))
     if len(pairs) <= 1:
