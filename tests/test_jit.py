@@ -211,7 +211,7 @@ def test_the_main_command_calls_it_before_its_first_kernel(monkeypatch):
     assert calls == [1]
 
 
-def test_in_threads_runs_every_part_once_and_raises_the_first_error():
+def test_in_threads_cuts_the_rows_once_each_and_raises_the_first_error(monkeypatch):
     seen = []
     lock = threading.Lock()
 
@@ -219,15 +219,19 @@ def test_in_threads_runs_every_part_once_and_raises_the_first_error():
         with lock:
             seen.append((a, b, threading.current_thread() is threading.main_thread()))
 
-    _jit.in_threads([0, 3, 7, 10], call)
-    assert sorted((a, b) for a, b, _ in seen) == [(0, 3), (3, 7), (7, 10)]
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 3)
+    _jit.in_threads(5, 15, call)
+    assert sorted((a, b) for a, b, _ in seen) == [(5, 8), (8, 11), (11, 15)]
     seen.clear()
-    _jit.in_threads([0, 10], call)  # one part: in the calling thread
-    assert seen == [(0, 10, True)]
+    _jit.in_threads(5, 15, call, threads_from=11)  # too few rows: one slice, this thread
+    assert seen == [(5, 15, True)]
+    seen.clear()
+    _jit.in_threads(0, 2, call)  # never more slices than rows
+    assert sorted((a, b) for a, b, _ in seen) == [(0, 1), (1, 2)]
 
     def failing(a, b):
-        if a == 3:
-            raise ValueError("part 3:7")
+        if a == 8:
+            raise ValueError("slice 8:11")
 
-    with pytest.raises(ValueError, match="part 3:7"):
-        _jit.in_threads([0, 3, 7, 10], failing)
+    with pytest.raises(ValueError, match="slice 8:11"):
+        _jit.in_threads(5, 15, failing)

@@ -204,20 +204,21 @@ def _forget_pool() -> None:  # a forked child has none of its parent's threads
 os.register_at_fork(after_in_child=_forget_pool)
 
 
-def in_threads(bounds, call) -> None:
-    """``call(a, b)`` for each consecutive pair of `bounds`, on a pool of threads.
+def in_threads(first: int, last: int, call, *, threads_from: int = 1) -> None:
+    """``call(a, b)`` over ``first:last`` cut into one slice per numba thread, on a pool.
 
     For kernels compiled with ``nogil=True`` over parts of their rows: one compiled kernel
     serves one thread and many, where a ``prange`` loop is a second compilation of the
     same body (0.5 to 0.9 s each on a fresh install).  Where a loop is hot and short (the
     winding numbers' queries) ``prange`` stays: OpenMP's threads measured 8 % faster there.
-    Returns when every part is done; the first error is raised.  With one part it runs in
-    the calling thread.
+    Fewer than `threads_from` items (or one thread, or one item) make one slice, run in
+    the calling thread; never more slices than items.  Returns when every slice is done;
+    the first error is raised.
     """
-    pairs = list(pairwise(bounds))
-    if len(pairs) <= 1:
-        for a, b in pairs:
-            call(a, b)
+    count = last - first
+    parts = min(numba.get_num_threads(), count) if count >= threads_from else 1
+    if parts <= 1:
+        call(first, last)
         return
     global _POOL
     with _POOL_LOCK:
@@ -227,5 +228,6 @@ def in_threads(bounds, call) -> None:
             cores = os.cpu_count() or 1
             _POOL = ThreadPoolExecutor(max_workers=cores, thread_name_prefix="dentopo")
         pool = _POOL
-    for done in [pool.submit(call, a, b) for a, b in pairs]:
+    bounds = [first + count * k // parts for k in range(parts + 1)]
+    for done in [pool.submit(call, a, b) for a, b in pairwise(bounds)]:
         done.result()

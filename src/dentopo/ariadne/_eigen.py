@@ -139,16 +139,6 @@ _bending_compiled = njit(cache=True, nogil=True)(_bending)
 PARALLEL_VERTICES = 2_048
 
 
-def _solve(covariance: np.ndarray, normals: np.ndarray, out: np.ndarray) -> None:
-    """``_bending_compiled`` on one thread, or on numba's threads in slices of the rows."""
-    import numba
-
-    n = len(covariance)
-    parts = numba.get_num_threads() if n >= PARALLEL_VERTICES else 1
-    bounds = np.linspace(0, n, parts + 1).astype(np.int64).tolist()
-    in_threads(bounds, lambda a, b: _bending_compiled(covariance[a:b], normals[a:b], out[a:b]))
-
-
 def bending(covariance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     """Local bending ``lambda / trace`` of each symmetric 3 x 3 covariance.
 
@@ -170,5 +160,10 @@ def bending(covariance: np.ndarray, normals: np.ndarray) -> np.ndarray:
     covariance = np.ascontiguousarray(covariance, dtype=np.float64)
     normals = np.ascontiguousarray(normals, dtype=np.float64)
     out = np.empty(len(covariance))
-    _solve(covariance, normals, out)
+    in_threads(
+        0,
+        len(out),
+        lambda a, b: _bending_compiled(covariance[a:b], normals[a:b], out[a:b]),
+        threads_from=PARALLEL_VERTICES,
+    )
     return out

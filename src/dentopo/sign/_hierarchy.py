@@ -12,7 +12,6 @@ moment, which ``_winding._far_field`` reads.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from .._jit import in_threads, njit
@@ -169,17 +168,30 @@ PARALLEL_BUILD = 200_000
 ITEMS_PER_CALL = 2_000_000
 
 
-def _by_levels(
-    count: int, per_call: int | None, call, reverse: bool = False, items: int = 0
-) -> None:
-    """``call(first, last)`` for the levels ``0:count`` in slices of `per_call` (by
-    default as many levels of `items` items as ``ITEMS_PER_CALL`` allows, at least one)."""
+def _by_levels(level, items: int, per_call: int | None, call, reverse: bool = False) -> None:
+    """``call(a, b)`` over the nodes ``a:b`` of every level of the hierarchy.
+
+    In compiled calls of `per_call` levels (by default as many levels of `items` items as
+    ``ITEMS_PER_CALL`` allows, at least one), Python reacting to Ctrl-C between them.
+    Below ``PARALLEL_BUILD`` items a call takes its levels' nodes at once (the kernel takes
+    them in the order its pass needs: a parent before its children top down, after them
+    bottom up, the nodes being numbered level by level); above, level by level (the
+    deepest first with `reverse`), each level's nodes cut among numba's threads (each node
+    owns its rows and its record: the result depends neither on the slices nor on the
+    threads).
+    """
+    count = len(level) - 1
     if per_call is None:
         per_call = ITEMS_PER_CALL // max(1, items)
     per_call = max(1, int(per_call))
     starts = range(0, count, per_call)
     for first in reversed(starts) if reverse else starts:
-        call(first, min(count, first + per_call))
+        last = min(count, first + per_call)
+        if items < PARALLEL_BUILD:
+            call(int(level[first]), int(level[last]))
+            continue
+        for depth in range(last - 1, first - 1, -1) if reverse else range(first, last):
+            in_threads(int(level[depth]), int(level[depth + 1]), call)
 
 
 def _kd_order(centres, link, lo, hi, level, perm, per_call=None):
@@ -190,36 +202,11 @@ def _kd_order(centres, link, lo, hi, level, perm, per_call=None):
     independent, so the order does not depend on the slices).
     """
     _by_levels(
-        len(level) - 1,
+        level,
+        len(centres),
         per_call,
-        lambda first, last: _in_levels(
-            level,
-            first,
-            last,
-            len(centres),
-            lambda a, b: _kd_nodes(centres, link, lo, hi, perm, a, b),
-        ),
-        items=len(centres),
+        lambda a, b: _kd_nodes(centres, link, lo, hi, perm, a, b),
     )
-
-
-def _in_levels(level, first: int, last: int, items: int, call, reverse: bool = False) -> None:
-    """``call(a, b)`` over the nodes ``a:b`` of the levels ``first:last``.
-
-    Below ``PARALLEL_BUILD`` items in one call (the kernel takes its nodes in the order a
-    pass needs: a parent before its children top down, after them bottom up, the nodes
-    being numbered level by level); above, level by level (the deepest first with
-    `reverse`), each level's nodes cut among numba's threads (each node owns its rows and
-    its record: the result does not depend on the threads).
-    """
-    if items < PARALLEL_BUILD:
-        call(int(level[first]), int(level[last]))
-        return
-    threads = numba.get_num_threads()
-    for depth in range(last - 1, first - 1, -1) if reverse else range(first, last):
-        a, b = int(level[depth]), int(level[depth + 1])
-        parts = max(1, min(threads, b - a))
-        in_threads(np.linspace(a, b, parts + 1).astype(np.int64).tolist(), call)
 
 
 @njit(cache=True, nogil=True)
@@ -363,33 +350,18 @@ def _summarise(tri, lo, hi, link, level, nodes, packed, weight, per_call=None):
     pass over the triangles.  In calls of `per_call` levels
     (``ITEMS_PER_CALL``): a level needs only the one below it.
     """
-    depths = len(level) - 1
-    items = len(tri)
     _by_levels(
-        depths,
+        level,
+        len(tri),
         per_call,
-        lambda first, last: _in_levels(
-            level,
-            first,
-            last,
-            items,
-            lambda a, b: _combine_nodes(tri, lo, hi, link, nodes, packed, weight, a, b),
-            reverse=True,
-        ),
+        lambda a, b: _combine_nodes(tri, lo, hi, link, nodes, packed, weight, a, b),
         reverse=True,
-        items=items,
     )
     _by_levels(
-        depths,
+        level,
+        len(tri),
         per_call,
-        lambda first, last: _in_levels(
-            level,
-            first,
-            last,
-            items,
-            lambda a, b: _radius_nodes(tri, lo, hi, link, nodes, packed, a, b),
-        ),
-        items=items,
+        lambda a, b: _radius_nodes(tri, lo, hi, link, nodes, packed, a, b),
     )
 
 
@@ -509,10 +481,11 @@ def _ordered_triangles(
     _kd_order(centres, link, lo, hi, level, perm)
     del centres, lo, hi, link, level
     tri = np.empty((n, 3, 3))
-    parts = numba.get_num_threads() if n >= PARALLEL_BUILD else 1
     in_threads(  # each row alone: the same array on any number of threads
-        np.linspace(0, n, parts + 1).astype(np.int64).tolist(),
+        0,
+        n,
         lambda a, b: _gather(vertices, faces, keep, cut, perm[a:b], tri[a:b]),
+        threads_from=PARALLEL_BUILD,
     )
     return tri
 
