@@ -98,17 +98,21 @@ def _project(vertices, d, centre, diagonal, scale, resolution, px, py, pz):  # p
 
 
 @njit(cache=True)
-def _setup(px, py, resolution, a, b, c):  # pragma: no cover
+def _setup(px, py, vleft, vright, vbottom, vtop, resolution, a, b, c):  # pragma: no cover
     """A face's pixel box (left, right, bottom, top; empty when left > right or bottom >
-    top) and ``1 / twice its signed area`` (0 when flat in the image)."""
+    top) and ``1 / twice its signed area`` (0 when flat in the image).
+
+    The box from its corners' bounds (:func:`_pixel_bounds`): the pixel centres from
+    ``ceil(min(x) - 1/2)`` to ``floor(max(x) - 1/2)``, within the image.
+    """
     ax, ay, bx, by, cx, cy = px[a], py[a], px[b], py[b], px[c], py[c]
     area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
     if area == 0.0:
         return 1, 0, 1, 0, 0.0
-    left = max(math.ceil(min(ax, bx, cx) - 0.5), 0)
-    right = min(math.floor(max(ax, bx, cx) - 0.5), resolution - 1)
-    bottom = max(math.ceil(min(ay, by, cy) - 0.5), 0)
-    top = min(math.floor(max(ay, by, cy) - 0.5), resolution - 1)
+    left = max(min(vleft[a], vleft[b], vleft[c]), 0)
+    right = min(max(vright[a], vright[b], vright[c]), resolution - 1)
+    bottom = max(min(vbottom[a], vbottom[b], vbottom[c]), 0)
+    top = min(max(vtop[a], vtop[b], vtop[c]), resolution - 1)
     return left, right, bottom, top, 1.0 / area
 
 
@@ -131,8 +135,8 @@ def _depth_at(px, py, pz, a, b, c, inverse, col, row):  # pragma: no cover
 def _pixel_bounds(px, py, resolution, col, row, left, right, bottom, top):  # pragma: no cover
     """Each vertex's pixel (rounded down, clamped to the image) and the pixel centres around
     it: ``ceil(x - 1/2)`` and ``floor(x - 1/2)`` in each axis.  A face's box is their min
-    and max over its corners (what :func:`_setup` computes from the corners' coordinates:
-    ``ceil`` and ``floor`` are monotonic)."""
+    and max over its corners (:func:`_setup`; ``ceil`` and ``floor`` are monotonic, so these
+    are the bounds of the corners' coordinates)."""
     for i in range(px.shape[0]):
         x = px[i]
         y = py[i]
@@ -178,18 +182,15 @@ def _bin_faces(
     start[:] = 0
     for f in range(m):
         a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-        ax, ay, bx, by, cx, cy = px[a], py[a], px[b], py[b], px[c], py[c]
-        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-        left = max(min(vleft[a], vleft[b], vleft[c]), 0)
-        right = min(max(vright[a], vright[b], vright[c]), resolution - 1)
-        bottom = max(min(vbottom[a], vbottom[b], vbottom[c]), 0)
-        top = min(max(vtop[a], vtop[b], vtop[c]), resolution - 1)
-        if area == 0.0 or left > right or bottom > top:  # covers no pixel centre
+        left, right, bottom, top, inverse = _setup(
+            px, py, vleft, vright, vbottom, vtop, resolution, a, b, c
+        )
+        if left > right or bottom > top:  # covers no pixel centre: marked by left > right
             box[f, 0] = 1
             box[f, 1] = 0
             continue
         box[f, 0], box[f, 1], box[f, 2], box[f, 3] = left, right, bottom, top
-        inverses[f] = 1.0 / area
+        inverses[f] = inverse
         key = min(max(int((max(pz[a], pz[b], pz[c]) - low) * levels_per), 0), LEVELS)
         keys[f] = key
         level_start[LEVELS - key + 1] += 1  # the highest first
@@ -441,36 +442,45 @@ def _lit_directions_image(
     px = np.empty(n)
     py = np.empty(n)
     pz = np.empty(n)
+    col = np.empty(n, dtype=np.int64)
+    row = np.empty(n, dtype=np.int64)
+    vleft = np.empty(n, dtype=np.int32)
+    vright = np.empty(n, dtype=np.int32)
+    vbottom = np.empty(n, dtype=np.int32)
+    vtop = np.empty(n, dtype=np.int32)
     for j in range(t, k, threads):
         _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
+        _pixel_bounds(px, py, resolution, col, row, vleft, vright, vbottom, vtop)
         x0, x1, y0, y1 = resolution, -1, resolution, -1
         for f in range(faces.shape[0]):
             a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-            left, right, bottom, top, inverse = _setup(px, py, resolution, a, b, c)
+            left, right, bottom, top, inverse = _setup(
+                px, py, vleft, vright, vbottom, vtop, resolution, a, b, c
+            )
             if left > right or bottom > top:
                 continue
             x0, x1 = min(x0, left), max(x1, right)
             y0, y1 = min(y0, bottom), max(y1, top)
-            for row in range(bottom, top + 1):
-                for col in range(left, right + 1):
-                    depth = _depth_at(px, py, pz, a, b, c, inverse, col, row)
-                    if depth > buffer[row, col]:
-                        buffer[row, col] = depth
+            for r in range(bottom, top + 1):
+                for q in range(left, right + 1):
+                    depth = _depth_at(px, py, pz, a, b, c, inverse, q, r)
+                    if depth > buffer[r, q]:
+                        buffer[r, q] = depth
         for i in range(n):
-            col = min(max(math.floor(px[i]), 0), resolution - 1)
-            row = min(max(math.floor(py[i]), 0), resolution - 1)
-            held = buffer[row, col]
+            ci = col[i]
+            ri = row[i]
+            held = buffer[ri, ci]
             if held > 0.0:
                 if pz[i] >= held * (1.0 - tolerance):
                     counts[t, i] += 1
             else:  # an empty pixel: lit when the next one in +u, +v or both is drawn
-                c2 = min(col + 1, resolution - 1)
-                r2 = min(row + 1, resolution - 1)
-                if buffer[row, c2] > 0.0 or buffer[r2, col] > 0.0 or buffer[r2, c2] > 0.0:
+                c2 = min(ci + 1, resolution - 1)
+                r2 = min(ri + 1, resolution - 1)
+                if buffer[ri, c2] > 0.0 or buffer[r2, ci] > 0.0 or buffer[r2, c2] > 0.0:
                     counts[t, i] += 1
-        for row in range(y0, y1 + 1):  # clear what was drawn
-            for col in range(x0, x1 + 1):
-                buffer[row, col] = 0.0
+        for r in range(y0, y1 + 1):  # clear what was drawn
+            for q in range(x0, x1 + 1):
+                buffer[r, q] = 0.0
 
 
 @njit(cache=True, parallel=True)
