@@ -248,6 +248,7 @@ def test_pcv_never_modifies_its_input():
         ({"rays": 2.5}, "rays"),
         ({"rays": True}, "rays"),
         ({"resolution": 8}, "resolution"),
+        ({"resolution": 32769}, "resolution"),
         ({"method": "opengl"}, "method"),
         ({"hemisphere": "yes"}, "hemisphere"),
         ({"orient": "down"}, "orient"),

@@ -11,12 +11,14 @@ from numbers import Integral, Real
 import numpy as np
 
 
-def check_int(name: str, value, *, low: int) -> int:
-    """An integer (not a bool) of at least `low`."""
+def check_int(name: str, value, *, low: int, high: int | None = None) -> int:
+    """An integer (not a bool) of at least `low` (and at most `high`, when given)."""
     if isinstance(value, bool) or not isinstance(value, Integral):
         raise TypeError(f"{name} must be an integer; got {type(value).__name__}")
     if value < low:
         raise ValueError(f"{name} must be at least {low}; got {value!r}")
+    if high is not None and value > high:
+        raise ValueError(f"{name} must be at most {high}; got {value!r}")
     return int(value)
 
 

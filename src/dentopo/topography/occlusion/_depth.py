@@ -56,6 +56,12 @@ TOLERANCE = 2e-3
 #: bounding box's diagonal (heights above the far plane lie between 1/2 and 3/2 of it).
 LEVELS = 4096
 
+#: The queries kernel's tile entries: a row of four int32 each (face, key, ``left | right <<
+#: 16``, ``bottom | top << 16``: pixel coordinates below 32,768), 16 bytes, so that writing or
+#: reading an entry touches one cache line and the entries of a crown stay in the core's own
+#: cache (with the box in two arrays beside the face and key: 12 % more CPU on 10,080 vertices).
+ENTRY = 4
+
 
 @njit(cache=True)
 def _view(vertices, resolution):  # pragma: no cover
@@ -170,12 +176,11 @@ def _bin_faces(
     level_start,
     start,
     entries,
-    boxes,
 ):  # pragma: no cover
     """The faces that cover a pixel centre, in the tiles their pixel box touches, each
-    tile's highest first: tile ``s`` holds entries ``start[s]:start[s + 1]`` of ``entries``
-    (face, key) and ``boxes`` (its pixel box), by descending key (the face's highest corner,
-    in :data:`LEVELS` levels of the box's depth).  Returns both (grown when needed)."""
+    tile's highest first: tile ``s`` holds rows ``start[s]:start[s + 1]`` of ``entries``
+    (face, key, its pixel box: :data:`ENTRY`), by descending key (the face's highest corner,
+    in :data:`LEVELS` levels of the box's depth).  Returns ``entries`` (grown when needed)."""
     m = faces.shape[0]
     nb = tiles * tiles
     level_start[:] = 0
@@ -218,44 +223,38 @@ def _bin_faces(
     for s in range(nb):
         start[s + 1] += start[s]
     total = start[nb]  # tile nb: the slot past the last entry, for the masked writes
-    if total + 1 > entries.shape[1]:
-        entries = np.empty((2, 2 * total + 1), dtype=np.int32)
-        boxes = np.empty((2 * total + 1, 4), dtype=np.int32)
+    if total + 1 > entries.shape[0]:
+        entries = np.empty((2 * total + 1, ENTRY), dtype=np.int32)
     for q in range(count):
         f = order[q]
         left, right, bottom, top = box[f, 0], box[f, 1], box[f, 2], box[f, 3]
         key = keys[f]
-        tx0, tx1, ty0, ty1 = left >> shift, right >> shift, bottom >> shift, top >> shift
-        wide = tx1 - tx0
-        tall = ty1 - ty0
-        small = wide <= 1 and tall <= 1
-        for ty in range(ty0, ty1 + 1 if not small else ty0 + 2):
-            for tx in range(tx0, tx1 + 1 if not small else tx0 + 2):
-                inside = (tx <= tx1) & (ty <= ty1)
-                s = ty * tiles + tx if inside else nb
+        for ty in range(bottom >> shift, (top >> shift) + 1):
+            for tx in range(left >> shift, (right >> shift) + 1):
+                s = ty * tiles + tx
                 e = start[s]
-                entries[0, e] = f
-                entries[1, e] = key
-                boxes[e, 0] = left
-                boxes[e, 1] = right
-                boxes[e, 2] = bottom
-                boxes[e, 3] = top
-                start[s] = e + inside
+                entries[e, 0] = f
+                entries[e, 1] = key
+                entries[e, 2] = left | (right << 16)
+                entries[e, 3] = bottom | (top << 16)
+                start[s] = e + 1
     for s in range(nb - 1, -1, -1):  # start[s] is now tile s's end
         start[s + 1] = start[s]
     start[0] = 0
-    return entries, boxes
+    return entries
 
 
 @njit(cache=True)
-def _drawn(px, py, pz, faces, inverses, entries, boxes, first, last, col, row):  # pragma: no cover
+def _drawn(px, py, pz, faces, inverses, entries, first, last, col, row):  # pragma: no cover
     """Whether a face of entries ``first:last`` covers the pixel centre (col + 1/2, row + 1/2)."""
     for q in range(first, last):
-        if col < boxes[q, 0] or col > boxes[q, 1] or row < boxes[q, 2]:
+        across = entries[q, 2]
+        if col < (across & 0xFFFF) or col > (across >> 16):
             continue
-        if row > boxes[q, 3]:
+        up = entries[q, 3]
+        if row < (up & 0xFFFF) or row > (up >> 16):
             continue
-        f = entries[0, q]
+        f = entries[q, 0]
         if _depth_at(px, py, pz, faces[f, 0], faces[f, 1], faces[f, 2], inverses[f], col, row) >= 0:
             return True
     return False
@@ -263,7 +262,7 @@ def _drawn(px, py, pz, faces, inverses, entries, boxes, first, last, col, row): 
 
 @njit(cache=True)
 def _next_drawn(
-    px, py, pz, faces, inverses, entries, boxes, start, shift, tiles, resolution, ci, ri
+    px, py, pz, faces, inverses, entries, start, shift, tiles, resolution, ci, ri
 ):  # pragma: no cover
     """Whether the next pixel in +u, +v or both is drawn (a vertex on an empty pixel is lit
     then)."""
@@ -273,7 +272,7 @@ def _next_drawn(
         cc = c2 if w != 1 else ci
         rr = r2 if w != 0 else ri
         s = (rr >> shift) * tiles + (cc >> shift)
-        if _drawn(px, py, pz, faces, inverses, entries, boxes, start[s], start[s + 1], cc, rr):
+        if _drawn(px, py, pz, faces, inverses, entries, start[s], start[s + 1], cc, rr):
             return True
     return False
 
@@ -326,15 +325,14 @@ def _lit_directions(
     order = np.empty(m, dtype=np.int32)
     level_start = np.empty(LEVELS + 2, dtype=np.int64)
     start = np.empty(tiles * tiles + 1, dtype=np.int64)
-    entries = np.empty((2, 4 * m + 1), dtype=np.int32)  # grown when needed
-    boxes = np.empty((4 * m + 1, 4), dtype=np.int32)
+    entries = np.empty((4 * m + 1, ENTRY), dtype=np.int32)  # grown when needed
     candidates = np.empty(m, dtype=np.int64)
     low = 0.5 * diagonal  # the lowest height a vertex can have (above the far plane)
     levels_per = LEVELS / diagonal
     for j in range(t, k, threads):
         _project(vertices, directions[j], centre, diagonal, scale, resolution, px, py, pz)
         _pixel_bounds(px, py, resolution, col, row, vleft, vright, vbottom, vtop)
-        entries, boxes = _bin_faces(
+        entries = _bin_faces(
             faces,
             px,
             py,
@@ -355,26 +353,27 @@ def _lit_directions(
             level_start,
             start,
             entries,
-            boxes,
         )
         for i in range(n):
             ci = col[i]
             ri = row[i]
+            height = pz[i]
             s = (ri >> shift) * tiles + (ci >> shift)
-            kt = int((pz[i] / keep - low) * levels_per) - 1
+            kt = int((height / keep - low) * levels_per) - 1
             q = start[s]
             end = start[s + 1]
             found = 0
-            while q < end and entries[1, q] >= kt:
-                candidates[found] = entries[0, q]
+            while q < end and entries[q, 1] >= kt:
+                candidates[found] = entries[q, 0]
+                across = entries[q, 2]
+                up = entries[q, 3]
                 found += (
-                    (ci >= boxes[q, 0])
-                    & (ci <= boxes[q, 1])
-                    & (ri >= boxes[q, 2])
-                    & (ri <= boxes[q, 3])
+                    (ci >= (across & 0xFFFF))
+                    & (ci <= (across >> 16))
+                    & (ri >= (up & 0xFFFF))
+                    & (ri <= (up >> 16))
                 )
                 q += 1
-            height = pz[i]
             sx = ci + 0.5
             sy = ri + 0.5
             hidden = False
@@ -394,9 +393,9 @@ def _lit_directions(
             if hidden:
                 continue
             if not covered:  # lower faces cannot hide it: is the pixel drawn at all?
-                covered = _drawn(px, py, pz, faces, inverses, entries, boxes, q, end, ci, ri)
+                covered = _drawn(px, py, pz, faces, inverses, entries, q, end, ci, ri)
             if covered or _next_drawn(
-                px, py, pz, faces, inverses, entries, boxes, start, shift, tiles, resolution, ci, ri
+                px, py, pz, faces, inverses, entries, start, shift, tiles, resolution, ci, ri
             ):
                 counts[t, i] += 1
 
@@ -542,10 +541,12 @@ def lit_counts_depth_buffer(
     import numba
 
     vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    faces = np.ascontiguousarray(faces, dtype=np.int32)  # half the int64's cache lines
     directions = np.ascontiguousarray(directions, dtype=np.float64)
     threads = max(1, min(numba.get_num_threads(), len(directions)))
     resolution = int(resolution)
+    if not 1 <= resolution <= 32768:  # pixel coordinates in 16 bits (the tile entries)
+        raise ValueError(f"resolution must be between 1 and 32768; got {resolution}")
     if path is None:
         path = "image" if len(vertices) > IMAGE_ABOVE * resolution**2 else "queries"
     total = np.zeros(len(vertices), dtype=np.int64)

@@ -28,6 +28,10 @@ PCV_FIELDS = ("pcv", "pcv_area")
 #: The smallest depth-buffer side accepted.
 MIN_RESOLUTION = 16
 
+#: The largest: pixel coordinates are kept in 16 bits (a 32,768-pixel side is an image of
+#: 10^9 pixels per direction; CloudCompare's default is 1,024).
+MAX_RESOLUTION = 32768
+
 
 class PCVParameterError(ValueError):
     """An unusable parameter of :func:`pcv` (named in the message)."""
@@ -119,13 +123,13 @@ def pcv(
     Raises
     ------
     PCVParameterError (a ValueError)
-        `rays` not an integer >= 1, `resolution` not an integer >= 16, an unknown
+        `rays` not an integer >= 1, `resolution` not an integer in [16, 32768], an unknown
         `method`, `hemisphere` not a bool; ValueError, TypeError for an unusable mesh
         (one without faces included) or `orient`.
     """
     try:  # the batch's checks, one error class for every parameter of this function
         rays, hemisphere, method = check_pcv_options(rays, hemisphere, method)
-        resolution = check_int("resolution", resolution, low=MIN_RESOLUTION)
+        resolution = check_int("resolution", resolution, low=MIN_RESOLUTION, high=MAX_RESOLUTION)
     except (TypeError, ValueError) as error:
         raise PCVParameterError(str(error)) from None
     orient = check_orient(orient)
