@@ -235,3 +235,31 @@ def test_in_threads_cuts_the_rows_once_each_and_raises_the_first_error(monkeypat
 
     with pytest.raises(ValueError, match="slice 8:11"):
         _jit.in_threads(5, 15, failing)
+
+
+def test_in_threads_chunks_are_each_taken_once_and_the_caller_takes_a_share(monkeypatch):
+    seen = []
+    lock = threading.Lock()
+
+    def call(a, b):
+        with lock:
+            seen.append((a, b, threading.current_thread() is threading.main_thread()))
+
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
+    _jit.in_threads(0, 100, call, chunks=8)
+    chunks = [(100 * k // 8, 100 * (k + 1) // 8) for k in range(8)]
+    assert sorted((a, b) for a, b, _ in seen) == chunks
+    seen.clear()
+    _jit.in_threads(0, 100, call)
+    assert sorted((a, b) for a, b, _ in seen) == [(0, 50), (50, 100)]
+    assert [own for a, b, own in seen if a == 0] == [True]  # the caller's own share
+    seen.clear()
+    _jit.in_threads(0, 3, call, chunks=8)  # never more chunks than rows
+    assert sorted((a, b) for a, b, _ in seen) == [(0, 1), (1, 2), (2, 3)]
+
+    def failing(a, b):
+        if a == 50:
+            raise ValueError("chunk 50")
+
+    with pytest.raises(ValueError, match="chunk 50"):
+        _jit.in_threads(0, 100, failing, chunks=8)

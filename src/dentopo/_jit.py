@@ -42,6 +42,7 @@ May import: nothing of dentopo (every subpackage may import it).
 from __future__ import annotations
 
 import importlib
+import itertools
 import os
 import signal
 import sys
@@ -204,16 +205,18 @@ def _forget_pool() -> None:  # a forked child has none of its parent's threads
 os.register_at_fork(after_in_child=_forget_pool)
 
 
-def in_threads(first: int, last: int, call, *, threads_from: int = 1) -> None:
+def in_threads(
+    first: int, last: int, call, *, threads_from: int = 1, chunks: int | None = None
+) -> None:
     """``call(a, b)`` over ``first:last`` cut into one slice per numba thread, on a pool.
 
     For kernels compiled with ``nogil=True`` over parts of their rows: one compiled kernel
     serves one thread and many, where a ``prange`` loop is a second compilation of the
-    same body (0.5 to 0.9 s each on a fresh install).  Where a loop is hot and short (the
-    winding numbers' queries) ``prange`` stays: OpenMP's threads measured 8 % faster there.
-    Fewer than `threads_from` items (or one thread, or one item) make one slice, run in
-    the calling thread; never more slices than items.  Returns when every slice is done;
-    the first error is raised.
+    same body (0.5 to 1.7 s each on a fresh install).  With `chunks`, the rows are cut
+    into that many chunks instead, which the threads take in turn as they finish (for
+    rows of uneven cost: the winding numbers' queries).  Fewer than `threads_from` items
+    (or one thread, or one item) make one slice, run in the calling thread; never more
+    slices than items.  Returns when every slice is done; the first error is raised.
     """
     count = last - first
     parts = min(numba.get_num_threads(), count) if count >= threads_from else 1
@@ -228,6 +231,32 @@ def in_threads(first: int, last: int, call, *, threads_from: int = 1) -> None:
             cores = os.cpu_count() or 1
             _POOL = ThreadPoolExecutor(max_workers=cores, thread_name_prefix="dentopo")
         pool = _POOL
-    bounds = [first + count * k // parts for k in range(parts + 1)]
-    for done in [pool.submit(call, a, b) for a, b in pairwise(bounds)]:
-        done.result()
+    pieces = parts if chunks is None else max(parts, min(int(chunks), count))
+    bounds = [first + count * k // pieces for k in range(pieces + 1)]
+    if pieces == parts:
+        slices = list(pairwise(bounds))
+        tasks = [pool.submit(call, a, b) for a, b in slices[1:]]
+        own = (call, *slices[0])
+    else:
+        taken = itertools.count()  # next() on it is atomic: each chunk is taken once
+
+        def worker() -> None:
+            for k in iter(taken.__next__, None):
+                if k >= pieces:
+                    return
+                call(bounds[k], bounds[k + 1])
+
+        tasks = [pool.submit(worker) for _ in range(parts - 1)]
+        own = (worker,)
+    error = None
+    try:  # the calling thread takes a share too: one thread fewer to wake
+        own[0](*own[1:])
+    except BaseException as raised:  # the others' shares are waited for all the same
+        error = raised
+    for done in tasks:
+        try:
+            done.result()
+        except BaseException as raised:
+            error = error or raised
+    if error is not None:
+        raise error

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 import numba
 import numpy as np
 
-from .._jit import njit, prange
+from .._jit import in_threads, njit, prange
 from ..mesh import spatial_order
 from ._exp import exp_neg
 from ._geodesic import geodesic_sums
@@ -365,7 +365,7 @@ def _row_and_columns(xs, ys, zs, i, a, run_ptr, run_start, run_end, consts, rows
     rows[9, i] += szz
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, nogil=True, fastmath=True)
 def _half_sums(
     xs,
     ys,
@@ -384,6 +384,8 @@ def _half_sums(
     radius2,
     rows,
     buffer,
+    first_task,
+    last_task,
 ):
     """Each pair ``i < j`` (Morton order) once: part `part` of `parts` of every task's rows.
 
@@ -398,12 +400,15 @@ def _half_sums(
     columns up in task order, so the sums do not depend on the threads.  The
     rows of each task are split into `parts` consecutive parts, one per call,
     done in order (Python reacts to Ctrl-C between calls): the sums do not
-    depend on `parts` either.
+    depend on `parts` either.  A call does the tasks ``first_task:last_task``;
+    the threads each take some (:func:`dentopo._jit.in_threads`: one compiled
+    function, where a ``prange`` loop compiled its body a second time, 1.7 s on
+    a fresh install).
 
     Writes into ``rows`` and ``buffer`` and returns nothing (see ``_run_sums``).
     """
     consts = (inv_h2, cutoff, radius2)
-    for task in prange(task_start.shape[0] - 1):
+    for task in range(first_task, last_task):
         off = col_offset[task]
         width = (buffer_start[task + 1] - buffer_start[task]) // 10
         cols = buffer[buffer_start[task] : buffer_start[task + 1]].reshape((10, width))
@@ -470,24 +475,30 @@ def _paired_moments(xs, ys, zs, block_start, runs, inv_h2, cutoff, radius2):
     pairs = float(row_cost.sum())
     parts = max(1, int(np.ceil(pairs / (PAIRS_PER_CALL * numba.get_num_threads()))))
     for part in range(parts):
-        _half_sums(
-            xs,
-            ys,
-            zs,
-            block_of,
-            run_ptr,
-            run_start,
-            run_end,
-            task_start,
-            col_offset,
-            buffer_start,
-            part,
-            parts,
-            inv_h2,
-            cutoff,
-            radius2,
-            rows,
-            buffer,
+        in_threads(
+            0,
+            len(task_start) - 1,
+            lambda a, b, part=part: _half_sums(
+                xs,
+                ys,
+                zs,
+                block_of,
+                run_ptr,
+                run_start,
+                run_end,
+                task_start,
+                col_offset,
+                buffer_start,
+                part,
+                parts,
+                inv_h2,
+                cutoff,
+                radius2,
+                rows,
+                buffer,
+                a,
+                b,
+            ),
         )
     _gather_sums(task_start, col_offset, buffer_start, buffer, rows)
     return rows

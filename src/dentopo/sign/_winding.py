@@ -68,7 +68,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .._jit import njit, prange
+from .._jit import in_threads, njit, prange
 from ..mesh import spatial_order
 from ._hierarchy import _DIPOLE, _MOMENT, _RADIUS, _ordered_triangles, _tree
 
@@ -233,42 +233,44 @@ def _approximate(tri, tree, queries, ratio, second_order):
     work = np.zeros(n, np.int64)
     for start in range(0, n, QUERIES_PER_CALL):
         part = slice(start, min(n, start + QUERIES_PER_CALL))
-        _query(tri, *tree, queries[part], ratio, second_order, out[part], work[part])
+        _query(tri, tree, queries[part], ratio, second_order, out[part], work[part])
     return out, work
 
 
 #: Fewer queries than this are computed on one thread: starting the threads would cost more.
-#: (With OpenMP's threads sleeping between kernels, ``dentopo._jit``, waking them costs tens
-#: of microseconds: the 1,022 queries of ``low``, about 2 us each, take 2.3 ms on one thread
-#: and 1.2 on two; the whole ariaDNE call 7.0 -> 5.8 ms.)
+#: (The 1,022 queries of ``low``, about 2 us each, take 2.3 ms on one thread and 1.2 on two.)
 PARALLEL_QUERIES = 256
 
+#: The queries of a call are cut into this many chunks, which the threads take in turn: a
+#: query's cost depends on how near the surface it lies, so equal slices would leave one
+#: thread waiting for the other.
+QUERY_CHUNKS = 8
 
-@njit(cache=True, parallel=True)
-def _query(tri, link, nodes, packed, queries, ratio, second_order, out, work):
+
+def _query(tri, tree, queries, ratio, second_order, out, work):
     """Approximate solid angles (4 pi w) at the queries, and each query's work.
 
-    The work is the number of nodes visited plus triangles summed exactly.
-    Both go to arrays of the caller (``out``, ``work``); nothing is returned
-    (see ``_hierarchy._layout``).  Each query is computed alone: the result does not
-    depend on the number of threads.
+    The work is the number of nodes visited plus triangles summed exactly.  Both go to
+    arrays of the caller (``out``, ``work``).  Each query is computed alone: the result
+    depends neither on the chunks nor on the threads.  On numba's threads through
+    :func:`dentopo._jit.in_threads`, not a ``prange`` loop: a second compilation of the
+    loop's body for OpenMP cost 1.1 s on a fresh install, for no measurable gain.
     """
-    n = queries.shape[0]
-    n_chunks = min(n, 256)
-    if n >= PARALLEL_QUERIES:
-        for chunk in prange(n_chunks):
-            first = chunk * n // n_chunks
-            last = (chunk + 1) * n // n_chunks
-            _query_range(
-                tri, link, nodes, packed, queries, ratio, second_order, out, work, first, last
-            )
-    else:
-        _query_range(
-            tri, link, nodes, packed, queries, ratio, second_order, out, work, np.int64(0), n
-        )
+    link, nodes, packed = tree
+    ratio = float(ratio)
+    second_order = bool(second_order)
+    in_threads(
+        0,
+        len(queries),
+        lambda a, b: _query_range(
+            tri, link, nodes, packed, queries, ratio, second_order, out, work, a, b
+        ),
+        threads_from=PARALLEL_QUERIES,
+        chunks=QUERY_CHUNKS,
+    )
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _query_range(tri, link, nodes, packed, queries, ratio, second_order, out, work, first, last):
     """``_query`` for the queries ``first:last``."""
     stack = np.empty(256, np.int64)
