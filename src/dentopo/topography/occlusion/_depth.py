@@ -35,7 +35,7 @@ use the same test and the same height at a pixel centre, so their counts are equ
 tests compare both with an image drawn by numpy).
 
 The directions run in parallel, each thread with its own arrays and its own counts (summed
-at the end), so that the counts do not depend on the number of threads.
+at the end, integers), so that the counts do not depend on the number of threads.
 
 May import: :mod:`dentopo._jit`.
 """
@@ -46,7 +46,7 @@ import math
 
 import numpy as np
 
-from ..._jit import njit, prange
+from ..._jit import in_threads, njit
 
 #: A vertex is lit when its height above the far plane is at least ``1 - TOLERANCE`` times
 #: the buffer's at its pixel (CloudCompare 2.11.3: 0.002, probed to within 0.1 %).
@@ -63,16 +63,13 @@ LEVELS = 4096
 ENTRY = 4
 
 
-@njit(cache=True)
-def _view(vertices, resolution):  # pragma: no cover
+def _view(vertices: np.ndarray, resolution: int) -> tuple[np.ndarray, float, float]:
     """The bounding box's centre, its diagonal (1 for a single point) and pixels per unit."""
-    lo = np.empty(3)
-    hi = np.empty(3)
-    for a in range(3):
-        lo[a] = vertices[:, a].min()
-        hi[a] = vertices[:, a].max()
+    lo = vertices.min(axis=0)
+    hi = vertices.max(axis=0)
     centre = 0.5 * (lo + hi)
-    diagonal = math.sqrt(np.sum((hi - lo) ** 2))
+    side = hi - lo
+    diagonal = math.sqrt(float(side[0] * side[0] + side[1] * side[1] + side[2] * side[2]))
     if not diagonal > 0.0:
         diagonal = 1.0
     return centre, diagonal, resolution / diagonal
@@ -277,7 +274,7 @@ def _next_drawn(
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _lit_directions(
     vertices,
     faces,
@@ -293,7 +290,7 @@ def _lit_directions(
     threads,
     counts,
 ):  # pragma: no cover
-    """``_lit_counts``' work on thread `t`: directions ``t, t + threads, ...`` into ``counts[t]``.
+    """The queries kernel on thread `t`: directions ``t, t + threads, ...`` into ``counts[t]``.
 
     For each vertex: a face can hide it only if the face's highest corner is at least the
     vertex's height divided by ``keep``, so its key is then at least ``kt`` (one level of
@@ -303,9 +300,10 @@ def _lit_directions(
     on every other face cost more than the test) and tested without one; below ``kt`` a
     face is looked for only while none has been found at the pixel.
 
-    A function of its own, not the body of the ``prange`` loop: numba compiles a parallel
-    loop's body once more for its threads, and this is most of the kernel (seconds saved
-    on a fresh install).
+    Run on numba's threads by :func:`dentopo._jit.in_threads` (``nogil``), not from a
+    ``prange`` loop: numba compiled a parallel loop's body once more for its threads, and
+    this kernel twice (6.5 -> 3 s of CPU on a fresh install); a thread's work is
+    milliseconds, so starting it from Python costs nothing measurable.
     """
     n = vertices.shape[0]
     m = faces.shape[0]
@@ -400,41 +398,11 @@ def _lit_directions(
                 counts[t, i] += 1
 
 
-@njit(cache=True, parallel=True)
-def _lit_counts(
-    vertices, faces, directions, resolution, tolerance, threads, shift, total
-):  # pragma: no cover
-    n = vertices.shape[0]
-    centre, diagonal, scale = _view(vertices, resolution)
-    keep = 1.0 - tolerance
-    tiles = ((resolution - 1) >> shift) + 1
-    counts = np.zeros((threads, n), dtype=np.int64)
-    for t in prange(threads):
-        _lit_directions(
-            vertices,
-            faces,
-            directions,
-            resolution,
-            keep,
-            shift,
-            tiles,
-            centre,
-            diagonal,
-            scale,
-            t,
-            threads,
-            counts,
-        )
-    for t in range(threads):  # into the caller's array: a kernel returns no array
-        for i in range(n):  # element by element: see _sort
-            total[i] += counts[t, i]
-
-
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _lit_directions_image(
     vertices, faces, directions, resolution, tolerance, centre, diagonal, scale, t, threads, counts
 ):  # pragma: no cover
-    """``_lit_counts_image``' work on thread `t` (see ``_lit_directions``)."""
+    """The image kernel on thread `t` (see ``_lit_directions``)."""
     n = vertices.shape[0]
     k = directions.shape[0]
     buffer = np.zeros((resolution, resolution))  # 0: nothing drawn (the far plane)
@@ -482,32 +450,6 @@ def _lit_directions_image(
                 buffer[r, q] = 0.0
 
 
-@njit(cache=True, parallel=True)
-def _lit_counts_image(
-    vertices, faces, directions, resolution, tolerance, threads, total
-):  # pragma: no cover
-    n = vertices.shape[0]
-    centre, diagonal, scale = _view(vertices, resolution)
-    counts = np.zeros((threads, n), dtype=np.int64)
-    for t in prange(threads):
-        _lit_directions_image(
-            vertices,
-            faces,
-            directions,
-            resolution,
-            tolerance,
-            centre,
-            diagonal,
-            scale,
-            t,
-            threads,
-            counts,
-        )
-    for t in range(threads):  # into the caller's array: a kernel returns no array
-        for i in range(n):  # element by element: see _sort
-            total[i] += counts[t, i]
-
-
 def _shift(n: int, resolution: int) -> int:
     """Tiles of ``2**shift`` pixels a side: about one vertex a tile for a crown that fills a
     third of the image (16 pixels for the 4,050-vertex crowns at 1,024 pixels and 8 for
@@ -549,10 +491,27 @@ def lit_counts_depth_buffer(
         raise ValueError(f"resolution must be between 1 and 32768; got {resolution}")
     if path is None:
         path = "image" if len(vertices) > IMAGE_ABOVE * resolution**2 else "queries"
-    total = np.zeros(len(vertices), dtype=np.int64)
+    centre, diagonal, scale = _view(vertices, resolution)
+    counts = np.zeros((threads, len(vertices)), dtype=np.int64)
     if path == "image":
-        _lit_counts_image(vertices, faces, directions, resolution, TOLERANCE, threads, total)
+
+        def work(t: int) -> None:
+            _lit_directions_image(
+                vertices, faces, directions, resolution, TOLERANCE, centre, diagonal, scale,
+                t, threads, counts,
+            )  # fmt: skip
+
     else:
         shift = _shift(len(vertices), resolution)
-        _lit_counts(vertices, faces, directions, resolution, TOLERANCE, threads, shift, total)
-    return total
+        tiles = ((resolution - 1) >> shift) + 1
+        keep = 1.0 - TOLERANCE
+
+        def work(t: int) -> None:
+            _lit_directions(
+                vertices, faces, directions, resolution, keep, shift, tiles, centre, diagonal,
+                scale, t, threads, counts,
+            )  # fmt: skip
+
+    # thread t takes directions t, t + threads, ...: its own counts, summed at the end
+    in_threads(0, threads, lambda a, b: [work(t) for t in range(a, b)])
+    return counts.sum(axis=0)
