@@ -36,7 +36,7 @@ from ._settings import Settings
 #: ``--metrics all``: what a metric shares with one before it is counted once, with the
 #: first).  The estimate said before compiling; a parallel warm-up takes about its largest group.
 COMPILE_SECONDS = {
-    "ariadne": 14.0,  # the mesh's cleaning (shared by every metric) and ariaDNE's sign
+    "ariadne": 6.5,  # the kernel sums, the eigen-solvers and ariaDNE's sign
     "classic": 1.0,
     "rfi": 8.0,  # molaR's footprint: the certified Delaunay sweep and the alpha hull
     "opcr": 2.0,
@@ -45,7 +45,7 @@ COMPILE_SECONDS = {
     "arc": 1.0,
     "doolkit_slope": 1.0,
     "angularity": 0.5,
-    "relief_index": 17.0,  # doolkit's footprint: concaveman and its R-tree
+    "relief_index": 11.5,  # doolkit's footprint: concaveman and its R-tree
     "inclination": 0.5,
     "doolkit_opc": 0.5,
     "doolkit_opcr": 0.5,
@@ -59,7 +59,7 @@ COMPILE_SECONDS = {
     "morphotester_rfi": 0.5,
     "morphotester_opcr": 0.5,
     "rfi_projected": 1.0,
-    "pcv": 7.0,
+    "pcv": 2.0,
 }
 
 #: ``DENTOPO_WARMUP=0`` in the environment: a batch compiles nothing before its meshes (each
@@ -73,7 +73,7 @@ def warm_up_wanted() -> bool:
 
 
 #: What every metric compiles first (reading and cleaning the mesh), in each process.
-SHARED_SECONDS = 6.0
+SHARED_SECONDS = 4.5
 
 
 def estimated_seconds(metrics: Sequence[str], processes: int = 1) -> float:
