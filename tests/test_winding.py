@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import trimesh
 
 from dentopo.mesh import boundary_edges, close_holes, orient_consistently
+from dentopo.sign import _strips
 from dentopo.sign._winding import exact_winding_number, inside, winding_number
 
 
@@ -328,3 +330,13 @@ def test_the_exact_sums_in_blocks_of_queries_are_those_of_one_call(tooth, monkey
     monkeypatch.setattr(_winding, "EXACT_PAIRS_PER_CALL", 1)  # one query a thread per call
     expected = exact_winding_number(vertices, faces, queries)
     assert np.array_equal(expected, whole / (4.0 * np.pi))
+
+
+@pytest.mark.parametrize("cell", [1e-3, 0.05, 0.3, 10.0])
+def test_grid_cells_are_numpys_unique_rows(cell):
+    rng = np.random.default_rng(7)
+    points = np.vstack([rng.normal(size=(2000, 3)), np.zeros((5, 3)), -np.zeros((5, 3))])
+    points[1000:1100] = points[:100]  # exact repeats
+    expected = np.unique(np.floor(points / cell), axis=0)
+    got = _strips._grid_cells(points, cell)
+    np.testing.assert_array_equal((got + 0.5) * cell, (expected + 0.5) * cell)

@@ -11,6 +11,7 @@ narrow clusters, and queries near them stay fast (see :mod:`._winding`).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from .._jit import njit
@@ -210,15 +211,18 @@ def _needle_bounds(corners: np.ndarray, queries: np.ndarray, allowed: int):
         if len(test) == 0:
             done.append((owner, s0, s1))
             break
-        middle = apex[owner[test]] + (0.5 * (s0[test] + s1[test]))[:, None] * axis[owner[test]]
+        near = owner[test]
+        middle = apex[near]
+        middle += (0.5 * (s0[test] + s1[test]))[:, None] * axis[near]
         reach = NEEDLE_REACH * span[test]
         # the queries to within an eighth of the shortest reach: one a grid cell (a few
         # where the pieces are long), so that no search meets many nearly tied ones
         cell = reach.min() / 8.0
-        kept = np.unique(np.floor(queries / cell), axis=0)
-        finder = cKDTree((kept + 0.5) * cell)
+        finder = cKDTree((_grid_cells(queries, cell) + 0.5) * cell)
         bound = reach.max() + cell
-        found = finder.query(middle, eps=NEEDLE_EPS, distance_upper_bound=bound)[0]
+        found = finder.query(
+            middle, eps=NEEDLE_EPS, distance_upper_bound=bound, workers=numba.get_num_threads()
+        )[0]
         split[test] = found < reach + cell
         if added + 2 * int(split.sum()) > allowed:
             split[:] = False
@@ -230,15 +234,26 @@ def _needle_bounds(corners: np.ndarray, queries: np.ndarray, allowed: int):
     owner = np.concatenate([part[0] for part in done])
     s0 = np.concatenate([part[1] for part in done])
     s1 = np.concatenate([part[2] for part in done])
-    order = np.lexsort((s0, owner))
-    owner = owner[order]
     pieces = np.bincount(owner, minlength=k)
     ptr = np.concatenate([[0], np.cumsum(pieces + 1)])
-    group = np.concatenate([[0], np.cumsum(pieces)])[owner]  # each piece's needle's first
-    bounds = np.empty(ptr[-1])
-    bounds[ptr[owner] + np.arange(len(owner)) - group] = s0[order]
-    bounds[ptr[1:] - 1] = 1.0
+    # each needle's pieces' starts in order, then 1: by needle and start, into the slots
+    # left between the 1s (in order, so a mask, not an index per slot)
+    bounds = np.ones(ptr[-1])
+    starts = np.ones(ptr[-1], dtype=bool)
+    starts[ptr[1:] - 1] = False
+    bounds[starts] = s0[np.lexsort((s0, owner))]
     return pieces, ptr, bounds
+
+
+def _grid_cells(points: np.ndarray, cell: float) -> np.ndarray:
+    """``np.unique(np.floor(points / cell), axis=0)``: the cells of side `cell` that hold
+    points, in the same (lexicographic) order, by a sort of the three columns (numpy's
+    unique rows sorts them as records: 80 ms for 100,000 points, this 10)."""
+    grid = np.floor(points / cell)
+    grid = grid[np.lexsort((grid[:, 2], grid[:, 1], grid[:, 0]))]
+    fresh = np.ones(len(grid), dtype=bool)
+    fresh[1:] = np.any(grid[1:] != grid[:-1], axis=1)
+    return grid[fresh]
 
 
 def _split_long(tri: np.ndarray) -> np.ndarray:
