@@ -541,14 +541,15 @@ def test_the_hierarchy_built_a_level_a_call_is_that_of_one_call():
 
     from dentopo.samples import tooth
     from dentopo.sign import _hierarchy as w
+    from dentopo.sign._strips import no_strips
 
     mesh = tooth(rings=200)  # above PARALLEL_BUILD triangles: the levels' nodes in parallel
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
     faces = np.asarray(mesh.faces, dtype=np.int64)
     assert len(faces) >= w.PARALLEL_BUILD
-    keep, cut = np.arange(len(faces)), np.empty((0, 3, 3))
+    keep, strips = np.arange(len(faces)), no_strips()
     centres = np.empty((len(faces), 3))
-    w._item_centres(vertices, faces, keep, cut, centres)
+    w._item_centres(vertices, faces, keep, *strips, centres)
     lo, hi, link, level = w._shape(len(faces), w.LEAF_SIZE)
     assert len(level) > 10
     built = {}
@@ -556,7 +557,7 @@ def test_the_hierarchy_built_a_level_a_call_is_that_of_one_call():
         moved, perm = centres.copy(), np.arange(len(faces))
         w._kd_order(moved, link, lo, hi, level, perm, per_call)
         tri = np.empty((len(faces), 3, 3))
-        w._gather(vertices, faces, keep, cut, perm, tri)
+        w._gather(vertices, faces, keep, *strips, perm, tri)
         nodes = np.zeros((len(link), 8))
         weight = np.empty(len(link), np.float32)
         w._summarise(tri, lo, hi, link, level, nodes, nodes.view(np.float32), weight, per_call)

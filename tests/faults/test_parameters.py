@@ -175,7 +175,7 @@ for inv_h2 in (np.inf, 1e300, 1.0):
     tasks, offset, width = np.array([0, 300]), np.array([0]), np.array([0, 10 * 300])
     rows, columns = np.zeros((10, 300)), np.zeros(10 * 300)
     _kernel._half_sums(*ordered, block_of, *runs, tasks, offset, width, 0, 1, inv_h2, 0.0,
-                       37.21, rows, columns)
+                       37.21, rows, columns, 0, 1)
     assert (rows[0] >= 1).all()  # every row written, the vertex's own weight 1 first
 print("ok")
 """

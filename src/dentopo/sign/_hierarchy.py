@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import in_threads, njit
-from ._strips import _edge_extremes, _long_strips
+from ._strips import _edge_extremes, _long_strips, _strip
 
 #: Triangles per leaf of the hierarchy.
 LEAF_SIZE = 4
@@ -471,11 +471,11 @@ def _ordered_triangles(
     longest = np.empty(len(faces))
     shortest = np.empty(len(faces))
     _edge_extremes(vertices, faces, longest, shortest)
-    long, cut = _long_strips(longest, shortest, lambda rows: vertices[faces[rows]], queries)
+    long, strips = _long_strips(longest, shortest, lambda rows: vertices[faces[rows]], queries)
     keep = np.arange(len(faces)) if len(long) == 0 else np.delete(np.arange(len(faces)), long)
-    n = len(keep) + len(cut)
+    n = len(keep) + strips.count
     centres = np.empty((n, 3))
-    _item_centres(vertices, faces, keep, cut, centres)
+    _item_centres(vertices, faces, keep, *strips, centres)
     perm = np.arange(n)
     lo, hi, link, level = _shape(n, leaf_size)
     _kd_order(centres, link, lo, hi, level, perm)
@@ -484,30 +484,33 @@ def _ordered_triangles(
     in_threads(  # each row alone: the same array on any number of threads
         0,
         n,
-        lambda a, b: _gather(vertices, faces, keep, cut, perm[a:b], tri[a:b]),
+        lambda a, b: _gather(vertices, faces, keep, *strips, perm[a:b], tri[a:b]),
         threads_from=PARALLEL_BUILD,
     )
     return tri
 
 
 @njit(cache=True)
-def _item_centres(vertices, faces, keep, cut, out):
-    """Three times the centroid of each item: the kept faces, then the strips."""
+def _item_centres(vertices, faces, keep, corners, apexes, ptr, bounds, first, row, out):
+    """Three times the centroid of each item: the kept faces, then the strips
+    (:class:`._strips.Strips`, made one at a time)."""
     n_keep = keep.shape[0]
+    strip = np.empty((1, 3, 3))
     for i in range(out.shape[0]):
-        for x in range(3):
-            if i < n_keep:
-                f = keep[i]
+        if i < n_keep:
+            f = keep[i]
+            for x in range(3):
                 out[i, x] = (
                     vertices[faces[f, 0], x] + vertices[faces[f, 1], x] + vertices[faces[f, 2], x]
                 )
-            else:
-                j = i - n_keep
-                out[i, x] = cut[j, 0, x] + cut[j, 1, x] + cut[j, 2, x]
+        else:
+            _strip(corners, apexes, ptr, bounds, first, row, i - n_keep, strip, 0)
+            for x in range(3):
+                out[i, x] = strip[0, 0, x] + strip[0, 1, x] + strip[0, 2, x]
 
 
 @njit(cache=True, nogil=True)
-def _gather(vertices, faces, keep, cut, perm, out):
+def _gather(vertices, faces, keep, corners, apexes, ptr, bounds, first, row, perm, out):
     """``out[k]``: the triangle of item ``perm[k]`` (a kept face, or a strip)."""
     n_keep = keep.shape[0]
     for k in range(out.shape[0]):
@@ -518,6 +521,4 @@ def _gather(vertices, faces, keep, cut, perm, out):
                 for x in range(3):
                     out[k, c, x] = vertices[v, x]
         else:
-            for c in range(3):
-                for x in range(3):
-                    out[k, c, x] = cut[i - n_keep, c, x]
+            _strip(corners, apexes, ptr, bounds, first, row, i - n_keep, out, k)

@@ -11,6 +11,8 @@ narrow clusters, and queries near them stay fast (see :mod:`._winding`).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
@@ -35,64 +37,110 @@ NEEDLE_EPS = 1.0
 NEEDLE_BUDGET = 32
 
 
-@njit(cache=True)
-def _cut_strips(tri, ptr, bounds, out):
-    """Cut triangle t into strips parallel to its shortest edge.
+class Strips(NamedTuple):
+    """Triangles to be cut into strips, and how (the strips themselves are made where
+    they are used: a cone's needles make millions, 72 bytes each, written once).
 
-    The strips run from the apex (the vertex opposite the shortest edge, at
-    ``s = 0``) to that edge (``s = 1``) between the fractions
-    ``bounds[ptr[t]:ptr[t + 1]]`` (0 first, 1 last), and keep the triangle's
-    orientation: 1 + 2 (pieces - 1) triangles, written to `out` (nothing is
-    returned, see ``_hierarchy._layout``).
+    ``corners`` (r, 3, 3): the triangles; ``apexes`` (r,): each one's corner opposite its
+    shortest edge; ``ptr`` (r + 1,) and ``bounds``: triangle t's strips run between the
+    fractions ``bounds[ptr[t]:ptr[t + 1]]`` of the way from the apex to that edge (0 first,
+    1 last); ``first`` (r + 1,): triangle t's strips are items ``first[t]:first[t + 1]``
+    (1 + 2 (pieces - 1) triangles); ``row`` (items,): each item's triangle.
     """
-    k = np.int64(0)  # int64 values, not literals (see c0 below)
-    for t in range(tri.shape[0]):
-        count = ptr[t + 1] - ptr[t] - 1
-        # apex: the vertex opposite the shortest edge
-        best = np.int64(0)
+
+    corners: np.ndarray
+    apexes: np.ndarray
+    ptr: np.ndarray
+    bounds: np.ndarray
+    first: np.ndarray
+    row: np.ndarray
+
+    @property
+    def count(self) -> int:
+        """The number of strip triangles."""
+        return len(self.row)
+
+
+def strips_of(corners: np.ndarray, ptr: np.ndarray, bounds: np.ndarray) -> Strips:
+    """The :class:`Strips` of `corners` cut between `bounds` (CSR `ptr`)."""
+    corners = np.ascontiguousarray(corners, dtype=np.float64)
+    apexes = np.empty(len(corners), dtype=np.int64)
+    _apexes(corners, apexes)
+    items = 2 * np.diff(ptr) - 3  # pieces = len - 1; 1 + 2 (pieces - 1) triangles
+    first = np.concatenate([[0], np.cumsum(items)]).astype(np.int64)
+    row = np.repeat(np.arange(len(corners), dtype=np.int64), items)
+    return Strips(corners, apexes, np.asarray(ptr, np.int64), np.asarray(bounds), first, row)
+
+
+def no_strips() -> Strips:
+    """No triangle cut."""
+    empty = np.empty(0, dtype=np.int64)
+    return Strips(
+        np.empty((0, 3, 3)), empty, np.zeros(1, np.int64), np.empty(0), np.zeros(1, np.int64), empty
+    )
+
+
+@njit(cache=True)
+def _apexes(corners, out):  # pragma: no cover
+    """``out[t]``: the corner of triangle t opposite its shortest edge (the first of equals)."""
+    for t in range(corners.shape[0]):
+        best = 0
         shortest = np.inf
         for a in range(3):
             b = (a + 1) % 3
             c = (a + 2) % 3
             d = 0.0
             for x in range(3):
-                d += (tri[t, b, x] - tri[t, c, x]) ** 2
+                d += (corners[t, b, x] - corners[t, c, x]) ** 2
             if d < shortest:
                 shortest = d
                 best = a
-        apex = best  # corners of tri[t]: the apex and the ends of its far edge
-        va = (best + 1) % 3
-        vb = (best + 2) % 3
-        # the corners of out[k] as int64 values, not literals: one compilation of _along,
-        # not one per literal (numba types a constant argument as its literal first)
-        c0, c1, c2 = np.int64(0), np.int64(1), np.int64(2)
-        for s in range(count):
-            s0 = bounds[ptr[t] + s]
-            s1 = bounds[ptr[t] + s + 1]
-            if s == 0:
-                for x in range(3):
-                    out[k, 0, x] = tri[t, apex, x]
-                _along(tri, t, apex, va, s1, out, k, c1)
-                _along(tri, t, apex, vb, s1, out, k, c2)
-                k += 1
-                continue
-            _along(tri, t, apex, va, s0, out, k, c0)
-            _along(tri, t, apex, va, s1, out, k, c1)
-            _along(tri, t, apex, vb, s1, out, k, c2)
-            _along(tri, t, apex, va, s0, out, k + 1, c0)
-            _along(tri, t, apex, vb, s1, out, k + 1, c1)
-            _along(tri, t, apex, vb, s0, out, k + 1, c2)
-            k += 2
+        out[t] = best
+
+
+@njit(cache=True, inline="always")
+def _strip(corners, apexes, ptr, bounds, first, row, item, out, k):  # pragma: no cover
+    """``out[k]``: strip triangle `item`, keeping its triangle's orientation.
+
+    Triangle t's first strip is the apex's corner up to ``s1``; each next one, between
+    ``s0`` and ``s1``, is two triangles: ``(va s0, va s1, vb s1)`` and ``(va s0, vb s1,
+    vb s0)``, with ``va``, ``vb`` the ends of the shortest edge and each point ``apex + s
+    (end - apex)``, coordinate by coordinate.
+    """
+    t = row[item]
+    local = item - first[t]
+    apex = apexes[t]
+    va = (apex + 1) % 3
+    vb = (apex + 2) % 3
+    strip = (local + 1) // 2
+    s0 = bounds[ptr[t] + strip]
+    s1 = bounds[ptr[t] + strip + 1]
+    for x in range(3):
+        a = corners[t, apex, x]
+        at_a0 = a + s0 * (corners[t, va, x] - a)
+        at_a1 = a + s1 * (corners[t, va, x] - a)
+        at_b0 = a + s0 * (corners[t, vb, x] - a)
+        at_b1 = a + s1 * (corners[t, vb, x] - a)
+        if local == 0:
+            out[k, 0, x] = a
+            out[k, 1, x] = at_a1
+            out[k, 2, x] = at_b1
+        elif local % 2 == 1:
+            out[k, 0, x] = at_a0
+            out[k, 1, x] = at_a1
+            out[k, 2, x] = at_b1
+        else:
+            out[k, 0, x] = at_a0
+            out[k, 1, x] = at_b1
+            out[k, 2, x] = at_b0
 
 
 @njit(cache=True)
-def _along(tri, t, apex, end, s, out, k, corner):  # pragma: no cover
-    """``out[k, corner] = apex + s (end - apex)`` for corners of ``tri[t]``, coordinate by
-    coordinate (the same arithmetic as the arrays', without compiling numba's array
-    assignment and its shape-mismatch message: seconds on a fresh install)."""
-    for x in range(3):
-        a = tri[t, apex, x]
-        out[k, corner, x] = a + s * (tri[t, end, x] - a)
+def _cut_strips(corners, apexes, ptr, bounds, first, row, out):  # pragma: no cover
+    """Every strip triangle, in order, into `out` (nothing is returned, see
+    ``_hierarchy._layout``)."""
+    for item in range(out.shape[0]):
+        _strip(corners, apexes, ptr, bounds, first, row, item, out, item)
 
 
 def _strip_bounds(longest: np.ndarray, target: float, allowed: int):
@@ -136,11 +184,11 @@ def _long_strips(
     ``triangles(rows)`` gives the (k, 3, 3) coordinates of the triangles
     `rows`.  With `queries`, needles (``_needle_bounds``) near them are cut
     too.  Returns the indices of the triangles cut (the long ones, then the
-    needles) and their strips (see ``_cut_strips``), each triangle's together.
+    needles) and their :class:`Strips`, each triangle's together.
     """
     target = LONG_TRIANGLE * float(np.median(longest)) if len(longest) else 0.0
     if not target > 0:
-        return np.empty(0, np.int64), np.empty((0, 3, 3))
+        return np.empty(0, np.int64), no_strips()
     is_long = longest > target
     long = np.flatnonzero(is_long)
     parts = []
@@ -159,14 +207,12 @@ def _long_strips(
             needles = needles[cut_needles]
         parts.append((pieces, None, bounds))
     if not parts:
-        return long, np.empty((0, 3, 3))
+        return long, no_strips()
     pieces = np.concatenate([part[0] for part in parts])
     bounds = np.concatenate([part[2] for part in parts])
     ptr = np.concatenate([[0], np.cumsum(pieces + 1)])
     rows = np.concatenate([long, needles])
-    cut = np.empty((int((2 * pieces - 1).sum()), 3, 3))
-    _cut_strips(np.ascontiguousarray(triangles(rows), dtype=np.float64), ptr, bounds, cut)
-    return rows, cut
+    return rows, strips_of(triangles(rows), ptr, bounds)
 
 
 def _needle_bounds(corners: np.ndarray, queries: np.ndarray, allowed: int):
@@ -264,9 +310,11 @@ def _split_long(tri: np.ndarray) -> np.ndarray:
     edge = np.stack(
         [np.linalg.norm(tri[:, (a + 1) % 3] - tri[:, a], axis=1) for a in range(3)], axis=1
     )
-    long, cut = _long_strips(edge.max(axis=1), edge.min(axis=1), lambda rows: tri[rows])
+    long, strips = _long_strips(edge.max(axis=1), edge.min(axis=1), lambda rows: tri[rows])
     if len(long) == 0:
         return tri
+    cut = np.empty((strips.count, 3, 3))
+    _cut_strips(*strips, cut)
     return np.concatenate([np.delete(tri, long, axis=0), cut])
 
 
