@@ -208,7 +208,8 @@ os.register_at_fork(after_in_child=_forget_pool)
 def in_threads(
     first: int, last: int, call, *, threads_from: int = 1, chunks: int | None = None
 ) -> None:
-    """``call(a, b)`` over ``first:last`` cut into one slice per numba thread, on a pool.
+    """``call(a, b)`` over ``first:last`` cut into one slice per numba thread, on a pool
+    (the calling thread does the first).
 
     For kernels compiled with ``nogil=True`` over parts of their rows: one compiled kernel
     serves one thread and many, where a ``prange`` loop is a second compilation of the
@@ -216,7 +217,9 @@ def in_threads(
     into that many chunks instead, which the threads take in turn as they finish (for
     rows of uneven cost: the winding numbers' queries).  Fewer than `threads_from` items
     (or one thread, or one item) make one slice, run in the calling thread; never more
-    slices than items.  Returns when every slice is done; the first error is raised.
+    slices than items.  Returns when every slice is done; the first error (in the slices'
+    order) is raised as soon as it is met, and a Ctrl-C once the calling thread's slice
+    is done (the callers keep a call to about a tenth of a second).
     """
     count = last - first
     parts = min(numba.get_num_threads(), count) if count >= threads_from else 1
@@ -248,15 +251,6 @@ def in_threads(
 
         tasks = [pool.submit(worker) for _ in range(parts - 1)]
         own = (worker,)
-    error = None
-    try:  # the calling thread takes a share too: one thread fewer to wake
-        own[0](*own[1:])
-    except BaseException as raised:  # the others' shares are waited for all the same
-        error = raised
+    own[0](*own[1:])  # the calling thread takes the first share: one thread fewer to wake
     for done in tasks:
-        try:
-            done.result()
-        except BaseException as raised:
-            error = error or raised
-    if error is not None:
-        raise error
+        done.result()

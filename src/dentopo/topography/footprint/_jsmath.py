@@ -336,7 +336,8 @@ def fast_convex_hull(p, out):
     numba's boxing of a returned array is where Ctrl-C crashed.)
     """
     hull = _fast_convex_hull(p)
-    out[: hull.shape[0]] = hull
+    for i in range(hull.shape[0]):  # not out[:k] = hull: see _rbush._grow_tree
+        out[i] = hull[i]
     return hull.shape[0]
 
 
