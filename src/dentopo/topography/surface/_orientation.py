@@ -237,11 +237,12 @@ def closed_volume(
     if cross is None:
         tri = points[faces]
         cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    # writeable arrays: a read-only one (a result's frozen faces) is a second compilation
     six = _kernels.closed_volume(
         points,
-        np.ascontiguousarray(faces, dtype=np.int64),
-        np.ascontiguousarray(cross, dtype=np.float64),
-        np.ascontiguousarray(boundary, dtype=np.int64).reshape(-1, 2),
+        np.require(faces, dtype=np.int64, requirements="CW"),
+        np.require(cross, dtype=np.float64, requirements="CW"),
+        np.require(boundary, dtype=np.int64, requirements="CW").reshape(-1, 2),
     )
     return float(six / 6.0)
 
