@@ -197,8 +197,19 @@ def _seed(
     triangle's circumcentre, ``order`` the points by distance from it.
     """
     n = points.shape[0]
-    lo_x, lo_y = points[:, 0].min(), points[:, 1].min()
-    hi_x, hi_y = points[:, 0].max(), points[:, 1].max()
+    lo_x = hi_x = points[0, 0]  # numpy's min and max, by a loop: numba's compile for a
+    lo_y = hi_y = points[0, 1]  # column (a strided array) took 0.35 s on a fresh install
+    for i in range(1, n):
+        x = points[i, 0]
+        y = points[i, 1]
+        if x < lo_x:
+            lo_x = x
+        if x > hi_x:
+            hi_x = x
+        if y < lo_y:
+            lo_y = y
+        if y > hi_y:
+            hi_y = y
     cx, cy = (lo_x + hi_x) / 2.0, (lo_y + hi_y) / 2.0
     i0, best = 0, np.inf
     for i in range(n):

@@ -135,6 +135,21 @@ def _bounding_edges(xy, faces, group_start, group_edge, groups, out):
     return count
 
 
+@njit(cache=True, inline="always")
+def _first_at_least(sorted_values, value):  # pragma: no cover
+    """``np.searchsorted(sorted_values, value)``: the first index whose value is at least
+    `value` (a binary search of our own: numba's compiled in 0.95 s on a fresh install)."""
+    lo = 0
+    hi = sorted_values.shape[0]
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if sorted_values[mid] < value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
 @njit(cache=True)
 def _covered(xy, faces, px, py, covered):
     """For each point (sorted by x), whether some projected face (closed) contains it."""
@@ -147,7 +162,7 @@ def _covered(xy, faces, px, py, covered):
             continue
         xmin, xmax = min(x0, x1, x2), max(x0, x1, x2)
         ymin, ymax = min(y0, y1, y2), max(y0, y1, y2)
-        j = np.searchsorted(px, xmin)
+        j = _first_at_least(px, xmin)
         while j < n and px[j] <= xmax:
             x, y = px[j], py[j]
             if not covered[j] and ymin <= y <= ymax:
