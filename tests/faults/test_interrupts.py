@@ -362,6 +362,9 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     vertices[5] = 1e3  # long triangles, cut into strips
     winding_number(vertices, faces, vertices[:10])
     exact_winding_number(vertices, faces, vertices[:10])
+    from dentopo.sign._strips import _split_long
+
+    _split_long(vertices[faces])  # the strips written out (the hierarchy makes them itself)
     flipped = faces.copy()
     flipped[0] = flipped[0, ::-1]
     orient_consistently(flipped, len(vertices))
