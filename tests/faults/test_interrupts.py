@@ -358,6 +358,11 @@ def test_no_compiled_kernel_returns_an_array(tmp_path, monkeypatch):
     prepared = prepare(crown)  # the fast path's compiled bending, without FINUFFT
     _fastgauss.bending(_kernel.euclidean_moments(prepared.points, 0.08, 0.0), prepared.normals)
     edge_uses(crown.faces, len(crown.vertices))
+    from dentopo.mesh import first_faces
+
+    fan = np.column_stack([np.zeros(40, np.int64), np.arange(1, 41), np.arange(2, 42)])
+    edge_uses(fan, 42)  # a vertex of many corners: the sorted paths
+    first_faces(fan, np.ones(40, dtype=bool), 42)
     vertices, faces = np.array(crown.vertices), np.array(crown.faces)
     vertices[5] = 1e3  # long triangles, cut into strips
     winding_number(vertices, faces, vertices[:10])
