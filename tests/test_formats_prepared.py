@@ -134,3 +134,23 @@ def test_safe_folder_stays_inside(tmp_path):
     with pytest.raises(ValueError, match="symbolic link"):
         safe_folder(root, "link/c")
     assert not (elsewhere / "c").exists()
+
+
+def test_safe_folder_takes_a_folder_another_worker_made_meanwhile(tmp_path, monkeypatch):
+    # two workers of `prepare -j N` writing into one new subfolder: the second one's mkdir
+    # finds it made between its look and its mkdir (a race that failed a file)
+    from dentopo.formats import _prepared
+
+    real_mkdir = os.mkdir
+
+    def raced(path, *args, **kwargs):
+        real_mkdir(path, *args, **kwargs)  # the other worker, first
+        raise FileExistsError(17, "File exists", path)
+
+    monkeypatch.setattr(_prepared.os, "mkdir", raced)
+    root = str(tmp_path / "out")
+    assert safe_folder(root, "sub/deep") == os.path.join(root, "sub", "deep")
+    assert os.path.isdir(os.path.join(root, "sub", "deep"))
+    (tmp_path / "out" / "file").write_text("x")
+    with pytest.raises(ValueError, match="not a folder"):
+        safe_folder(root, "file/deeper")

@@ -162,16 +162,17 @@ def safe_folder(root: str | os.PathLike, relative: str) -> str:
     here = root
     for part in parts:
         here = os.path.join(here, part)
+        try:  # made here, or found: a link is not followed by mkdir, and is refused below
+            os.mkdir(here)
+        except FileExistsError:  # there already, or another worker made it meanwhile
+            pass
         if os.path.islink(here):
             raise ValueError(
                 f"{here!r} is a symbolic link: files are not written through it (it could "
                 f"lead out of {root!r}); remove it or choose another output folder"
             )
-        if os.path.lexists(here):
-            if not os.path.isdir(here):
-                raise ValueError(f"{here!r} is not a folder")
-        else:
-            os.mkdir(here)
+        if not os.path.isdir(here):
+            raise ValueError(f"{here!r} is not a folder")
     real_root = os.path.realpath(root)
     if not _inside(os.path.realpath(here), real_root):  # pragma: no cover - raced
         raise ValueError(f"{here!r} leads out of the output folder {root!r}")
