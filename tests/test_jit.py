@@ -211,7 +211,8 @@ def test_the_main_command_calls_it_before_its_first_kernel(monkeypatch):
     assert calls == [1]
 
 
-def test_in_threads_cuts_the_rows_once_each_and_raises_the_first_error(monkeypatch):
+def _recorder():
+    """A list and a call(a, b) that records each slice and whether the calling thread ran it."""
     seen = []
     lock = threading.Lock()
 
@@ -219,6 +220,11 @@ def test_in_threads_cuts_the_rows_once_each_and_raises_the_first_error(monkeypat
         with lock:
             seen.append((a, b, threading.current_thread() is threading.main_thread()))
 
+    return seen, call
+
+
+def test_in_threads_cuts_the_rows_once_each_and_raises_the_first_error(monkeypatch):
+    seen, call = _recorder()
     monkeypatch.setattr(numba, "get_num_threads", lambda: 3)
     _jit.in_threads(5, 15, call)
     assert sorted((a, b) for a, b, _ in seen) == [(5, 8), (8, 11), (11, 15)]
@@ -238,13 +244,7 @@ def test_in_threads_cuts_the_rows_once_each_and_raises_the_first_error(monkeypat
 
 
 def test_in_threads_chunks_are_each_taken_once_and_the_caller_takes_a_share(monkeypatch):
-    seen = []
-    lock = threading.Lock()
-
-    def call(a, b):
-        with lock:
-            seen.append((a, b, threading.current_thread() is threading.main_thread()))
-
+    seen, call = _recorder()
     monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
     _jit.in_threads(0, 100, call, chunks=8)
     chunks = [(100 * k // 8, 100 * (k + 1) // 8) for k in range(8)]
