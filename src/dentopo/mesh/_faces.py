@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import njit
-from ._topology import FEW_CORNERS, corners_by_vertex, stable_order
+from ._topology import FEW_CORNERS, corners_by_vertex, has_long_group, stable_order
 
 
 @njit(cache=True, inline="always")
@@ -196,7 +196,7 @@ def first_faces(faces: np.ndarray, keep: np.ndarray, n_vertices: int) -> np.ndar
     first = np.empty(len(faces), dtype=np.bool_)
     keep = np.ascontiguousarray(keep, dtype=np.bool_)
     _first_faces(faces, keep, start, corner, first)
-    if len(faces) and int(np.diff(start).max()) > FEW_CORNERS:
+    if has_long_group(start):
         _first_faces_long(faces, keep, start, corner, first)
     return first
 

@@ -233,9 +233,16 @@ def _count_following(start, following, a, b):  # pragma: no cover
 def _sorted_corners(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, np.ndarray]:
     """``start`` and ``following`` of :func:`corners_by_vertex`, long groups sorted."""
     start, _, following = corners_by_vertex(faces, n_vertices)
-    if len(start) > 1 and int(np.diff(start).max()) > FEW_CORNERS:  # a crown has none: its
-        _sort_long_groups(start, following)  # kernel then never compiles
+    if has_long_group(start):  # a crown has none: its kernel then never compiles
+        _sort_long_groups(start, following)
     return start, following
+
+
+def has_long_group(start: np.ndarray) -> bool:
+    """Whether some vertex has more than ``FEW_CORNERS`` corners (`start`: the CSR offsets
+    of :func:`corners_by_vertex`): only then do the sorted paths for long groups run, and
+    compile."""
+    return len(start) > 1 and int(np.diff(start).max()) > FEW_CORNERS
 
 
 @njit(cache=True)

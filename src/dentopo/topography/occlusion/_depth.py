@@ -62,6 +62,11 @@ LEVELS = 4096
 #: cache (with the box in two arrays beside the face and key: 12 % more CPU on 10,080 vertices).
 ENTRY = 4
 
+#: The largest image side the kernels take: the tile entries keep pixel coordinates in 16 bits
+#: (a 32,768-pixel side is an image of 10^9 pixels per direction; CloudCompare's default is
+#: 1,024).
+MAX_RESOLUTION = 32768
+
 
 def _view(vertices: np.ndarray, resolution: int) -> tuple[np.ndarray, float, float]:
     """The bounding box's centre, its diagonal (1 for a single point) and pixels per unit."""
@@ -487,8 +492,8 @@ def lit_counts_depth_buffer(
     directions = np.ascontiguousarray(directions, dtype=np.float64)
     threads = max(1, min(numba.get_num_threads(), len(directions)))
     resolution = int(resolution)
-    if not 1 <= resolution <= 32768:  # pixel coordinates in 16 bits (the tile entries)
-        raise ValueError(f"resolution must be between 1 and 32768; got {resolution}")
+    if not 1 <= resolution <= MAX_RESOLUTION:
+        raise ValueError(f"resolution must be between 1 and {MAX_RESOLUTION}; got {resolution}")
     if path is None:
         path = "image" if len(vertices) > IMAGE_ABOVE * resolution**2 else "queries"
     centre, diagonal, scale = _view(vertices, resolution)

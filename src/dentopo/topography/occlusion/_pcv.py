@@ -20,6 +20,7 @@ from ...mesh import as_arrays, vertex_areas
 from .._parameters import check_int, check_pcv_options
 from ..surface._molar import Surface
 from ..surface._orientation import Orientation, check_orient, orient_vertices
+from ._depth import MAX_RESOLUTION
 from ._directions import light_directions
 
 #: Scalar fields, in the order of output tables.
@@ -27,10 +28,6 @@ PCV_FIELDS = ("pcv", "pcv_area")
 
 #: The smallest depth-buffer side accepted.
 MIN_RESOLUTION = 16
-
-#: The largest: pixel coordinates are kept in 16 bits (a 32,768-pixel side is an image of
-#: 10^9 pixels per direction; CloudCompare's default is 1,024).
-MAX_RESOLUTION = 32768
 
 
 class PCVParameterError(ValueError):
