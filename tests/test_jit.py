@@ -263,3 +263,47 @@ def test_in_threads_chunks_are_each_taken_once_and_the_caller_takes_a_share(monk
 
     with pytest.raises(ValueError, match="chunk 50"):
         _jit.in_threads(0, 100, failing, chunks=8)
+
+
+def _numbas_values(config) -> dict:
+    """``TargetConfig.values`` as numba writes it: each option read through its property."""
+    return {name: getattr(config, name) for name in config.options}
+
+
+def test_the_quick_compile_flags_give_numbas_own_values_and_hash():
+    from numba.core.compiler import Flags
+
+    assert _jit.quick_compile_flags()  # in since dentopo._jit was imported
+    plain, changed, same = Flags(), Flags(), Flags()
+    changed.nrt = True
+    changed.fastmath = True
+    changed.error_model = "numpy"
+    same.nrt = False  # set, but to the default
+    for flags in (plain, changed, same):
+        assert flags.values() == _numbas_values(flags)
+        assert hash(flags) == hash(tuple(sorted(_numbas_values(flags))))
+    assert plain == same and plain != changed
+    assert hash(plain) == hash(changed)  # numba's hash: the option names only
+    # setting an option afterwards is seen (nothing is cached per instance)
+    same.boundscheck = True
+    assert same.values() == _numbas_values(same) and same != plain
+
+
+def test_a_kernel_compiles_and_caches_with_the_quick_compile_flags(tmp_path):
+    code = """
+import numpy as np
+from dentopo._jit import njit
+
+@njit(cache=True)
+def total(a):
+    return np.full(3, a.sum()).sum() + min(a[0], a[1])
+
+print(total(np.arange(4.0)))
+"""
+    script = tmp_path / "kernel.py"
+    script.write_text(code)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    for _ in range(2):  # compiled, then loaded from the cache
+        out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env)
+        assert out.returncode == 0, out.stderr
+        assert out.stdout.strip() == "18.0"
