@@ -25,10 +25,12 @@ rebuilds both exactly as the JavaScript does:
   double precision (no fused multiply-add, no reassociation), and the
   orientation tests are exact (robust-orientation's filtered determinant,
   with an exact expansion where the filter cannot decide);
-- the segment R-tree is rbush's dynamic tree (insert with its split
-  heuristics, remove).  Its structure cannot change the result: the
-  intersection test only asks whether any indexed edge crosses, and the edges
-  searched are those whose boxes meet the query, in any order.
+- the JavaScript's second R-tree, of the outline's edges, is not needed: the
+  intersection test only asks whether any edge whose box meets the query's box
+  crosses, which does not depend on the order the edges are searched in.  The
+  edges are kept in a grid of cells (an entry in every cell an edge's box
+  meets), which finds every such edge; it compiles in a fraction of the time
+  rbush's insertion and split heuristics took (about 2 s on a fresh install).
 
 Points are identified by their index, as the JavaScript identifies them by
 object: two input points with equal coordinates stay two points.
@@ -69,7 +71,7 @@ import numpy as np
 
 from ..._jit import njit
 from ._jsmath import _fast_convex_hull, _orient
-from ._rbush import _WIDTH, _alloc, _grow_tree, _insert, _load, _new_tree, _remove
+from ._rbush import _load, _remove
 
 _INF = math.inf
 
@@ -78,14 +80,14 @@ _INF = math.inf
 # concaveman's outline helpers
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sq_dist(x0, y0, x1, y1):
     dx = x0 - x1
     dy = y0 - y1
     return dx * dx + dy * dy
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, inline="always")
 def _update_box(p, node_p, nxt, s_box, node):
     i = node_p[node]
     j = node_p[nxt[node]]
@@ -95,11 +97,52 @@ def _update_box(p, node_p, nxt, s_box, node):
     s_box[node, 3] = max(p[i, 1], p[j, 1])
 
 
+@njit(cache=True)
+def _list_edge(p, node_p, nxt, s_box, edge, version, grid, cells, entries, count):
+    """Put `edge` (its box, and an entry for it in every cell its box meets) into the grid.
+
+    `grid` is ``(x_lo, y_lo, cells per unit of x, of y)``, `cells` (side * side,) the first
+    entry of each cell, `entries` (k, 3) int64 rows ``(edge, its version, next entry)``;
+    returns `entries` (a larger copy when they were full) and the number in use.
+    """
+    _update_box(p, node_p, nxt, s_box, edge)
+    side = int(math.sqrt(cells.shape[0]) + 0.5)
+    i0 = _cell(s_box[edge, 0], grid[0], grid[2], side)
+    i1 = _cell(s_box[edge, 2], grid[0], grid[2], side)
+    j0 = _cell(s_box[edge, 1], grid[1], grid[3], side)
+    j1 = _cell(s_box[edge, 3], grid[1], grid[3], side)
+    need = count + (i1 - i0 + 1) * (j1 - j0 + 1)
+    if need > entries.shape[0]:
+        larger = np.empty((max(need, 2 * entries.shape[0]), 3), dtype=np.int64)
+        # element by element: an array assignment compiles numba's shape-mismatch message
+        # (more than a second on a fresh install)
+        for k in range(count):
+            for c in range(3):
+                larger[k, c] = entries[k, c]
+        entries = larger
+    for j in range(j0, j1 + 1):
+        for i in range(i0, i1 + 1):
+            cell = j * side + i
+            entries[count, 0] = edge
+            entries[count, 1] = version[edge]
+            entries[count, 2] = cells[cell]
+            cells[cell] = count
+            count += 1
+    return entries, count
+
+
+@njit(cache=True, inline="always")
+def _cell(x, lo, per_unit, side):
+    """The grid column (or row) of coordinate `x`: non-decreasing in `x`, so that two boxes
+    that meet share a cell."""
+    return min(side - 1, int((x - lo) * per_unit))
+
+
 # --------------------------------------------------------------------------------------------
 # concaveman's distances
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sq_seg_dist(px, py, x, y, x2, y2):
     """Squared distance from (px, py) to the segment (x, y)-(x2, y2)."""
     dx = x2 - x
@@ -179,7 +222,7 @@ def _sq_seg_seg_dist(x0, y0, x1, y1, x2, y2, x3, y3):
     return dx * dx + dy * dy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sq_seg_box_dist(ax, ay, bx, by, x0, y0, x1, y1):
     """Squared distance from the segment a-b to the box (x0, y0, x1, y1), 0 if it reaches in."""
     if (ax >= x0 and ax <= x1 and ay >= y0 and ay <= y1) or (
@@ -205,7 +248,7 @@ def _sq_seg_box_dist(ax, ay, bx, by, x0, y0, x1, y1):
 # concaveman
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _crosses(x1, y1, x2, y2, x3, y3, x4, y4):
     """concaveman's intersects() of segments 1-2 and 3-4 (ends told apart by orient > 0)."""
     if (_orient(x1, y1, x2, y2, x3, y3) > 0) == (_orient(x1, y1, x2, y2, x4, y4) > 0):
@@ -264,23 +307,34 @@ def concaveman_ring(points, concavity, length_threshold, out):
         queue[q_tail] = node
         q_tail += 1
 
-    # the segment R-tree over the outline's edges: edge `node` runs node_p[node] -> its next
+    # the outline's edges (edge `node` runs node_p[node] -> its next) in a grid of cells over
+    # the points' box, about 4 points a cell: an edge has an entry in every cell its box
+    # meets, so that every edge whose box meets a query's box has one in a cell the query's
+    # box meets.  An edge taken out of the outline gets a new version; its old entries are
+    # dropped as the queries meet them.  (The JavaScript keeps the edges in an R-tree;
+    # which edges are searched, in which order, cannot change the result: the search only
+    # asks whether any crosses.)
+    grid = np.empty(4)
+    x_hi = grid[0] = p[0, 0]
+    y_hi = grid[1] = p[0, 1]
+    for i in range(1, n):
+        grid[0] = min(grid[0], p[i, 0])
+        grid[1] = min(grid[1], p[i, 1])
+        x_hi = max(x_hi, p[i, 0])
+        y_hi = max(y_hi, p[i, 1])
+    side = max(1, int(math.sqrt(n) / 2.0))
+    # cells per unit; 0 (one column or row) for a flat box, or one too wide for a double
+    grid[2] = side / (x_hi - grid[0]) if x_hi > grid[0] else 0.0
+    grid[3] = side / (y_hi - grid[1]) if y_hi > grid[1] else 0.0
+    cells = np.full(side * side, -1, dtype=np.int64)
+    entries = np.empty((4 * n + 64, 3), dtype=np.int64)
+    count = np.int64(0)  # not a literal 0: one compilation of _list_edge, not two
+    version = np.zeros(cap, dtype=np.int64)
     s_box = np.empty((cap, 4))
-    s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_where, s_meta = _new_tree(np.int64(64), cap)
-    s_meta[0] = _alloc(s_cnt, s_leaf, s_hgt, s_bb, s_par, s_meta)
-    path = np.empty(64, dtype=np.int64)
-    lbox = np.empty(4)
-    rbox = np.empty(4)
     for k in range(q_tail):
-        node = queue[k]
-        _update_box(p, node_p, nxt, s_box, node)
-        s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par = _grow_tree(
-            s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_meta, s_hgt[s_meta[0]] + 2
+        entries, count = _list_edge(
+            p, node_p, nxt, s_box, queue[k], version, grid, cells, entries, count
         )
-        _insert(
-            s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_where, s_meta, s_box, node, path,
-            lbox, rbox,
-        )  # fmt: skip
 
     scale = 0.0
     for i in range(n):
@@ -294,7 +348,6 @@ def concaveman_ring(points, concavity, length_threshold, out):
     hd = np.empty(heap_cap)
     hi = np.empty(heap_cap, dtype=np.int64)
     hp = np.empty(heap_cap, dtype=np.bool_)
-    stack = np.empty(_WIDTH * 64, dtype=np.int64)
 
     while q_head < q_tail:
         node = queue[q_head]
@@ -410,41 +463,48 @@ def concaveman_ring(points, concavity, length_threshold, out):
                     y0 = min(ey, qy)
                     x1 = max(ex, qx)
                     y1 = max(ey, qy)
-                    stack[0] = s_meta[0]
-                    depth = 1
-                    while depth > 0 and clear:
-                        depth -= 1
-                        snode = stack[depth]
-                        if not (
-                            s_bb[snode, 0] <= x1
-                            and s_bb[snode, 1] <= y1
-                            and s_bb[snode, 2] >= x0
-                            and s_bb[snode, 3] >= y0
-                        ):
-                            continue
-                        s_is_leaf = s_leaf[snode]
-                        for k in range(s_cnt[snode]):
-                            c = s_ch[snode, k]
-                            if not s_is_leaf:  # at most 16 children a level wait
-                                stack[depth] = c
-                                depth += 1
-                            elif (
-                                s_box[c, 0] <= x1
-                                and s_box[c, 1] <= y1
-                                and s_box[c, 2] >= x0
-                                and s_box[c, 3] >= y0
-                            ):
-                                p1 = node_p[c]
-                                q1 = node_p[nxt[c]]
+                    i0 = _cell(x0, grid[0], grid[2], side)
+                    i1 = _cell(x1, grid[0], grid[2], side)
+                    j0 = _cell(y0, grid[1], grid[3], side)
+                    j1 = _cell(y1, grid[1], grid[3], side)
+                    for j in range(j0, j1 + 1):
+                        for i in range(i0, i1 + 1):
+                            cell = j * side + i
+                            before = -1
+                            at = cells[cell]
+                            while at >= 0:
+                                c = entries[at, 0]
+                                following = entries[at, 2]
+                                if entries[at, 1] != version[c]:  # a removed edge's: drop it
+                                    if before < 0:
+                                        cells[cell] = following
+                                    else:
+                                        entries[before, 2] = following
+                                    at = following
+                                    continue
+                                before = at
+                                at = following
                                 if (
-                                    p1 != q
-                                    and q1 != e0
-                                    and _crosses(
-                                        p[p1, 0], p[p1, 1], p[q1, 0], p[q1, 1], ex, ey, qx, qy
-                                    )
+                                    s_box[c, 0] <= x1
+                                    and s_box[c, 1] <= y1
+                                    and s_box[c, 2] >= x0
+                                    and s_box[c, 3] >= y0
                                 ):
-                                    clear = False
-                                    break
+                                    p1 = node_p[c]
+                                    q1 = node_p[nxt[c]]
+                                    if (
+                                        p1 != q
+                                        and q1 != e0
+                                        and _crosses(
+                                            p[p1, 0], p[p1, 1], p[q1, 0], p[q1, 1], ex, ey, qx, qy
+                                        )
+                                    ):
+                                        clear = False
+                                        break
+                            if not clear:
+                                break
+                        if not clear:
+                            break
                     if not clear:
                         break
                 if clear:
@@ -472,16 +532,11 @@ def concaveman_ring(points, concavity, length_threshold, out):
             queue[q_tail + 1] = new
             q_tail += 2
             _remove(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, found)
-            _remove(s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_where, s_meta, s_box, node)
+            version[node] += 1  # its old entries: the edge now ends at the new point
             for e in (node, new):
-                _update_box(p, node_p, nxt, s_box, e)
-                s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par = _grow_tree(
-                    s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_meta, s_hgt[s_meta[0]] + 2
+                entries, count = _list_edge(
+                    p, node_p, nxt, s_box, e, version, grid, cells, entries, count
                 )
-                _insert(
-                    s_ch, s_cnt, s_leaf, s_hgt, s_bb, s_par, s_where, s_meta, s_box, e, path,
-                    lbox, rbox,
-                )  # fmt: skip
 
     node = last
     k = 0

@@ -53,7 +53,7 @@ _INF = math.inf
 _TWO52 = 4503599627370496.0  # 2**52
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _bits(x):
     """The IEEE 754 bits of a finite double, zero or normal, as an int64 (no memory view)."""
     if x == 0.0:
@@ -68,7 +68,7 @@ def _bits(x):
     return u - (1 << 63) if sign else u  # the sign bit set, as a signed integer
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _from_bits(u):
     """The positive normal double with bits u."""
     exponent = (u >> 52) & 0x7FF
@@ -129,7 +129,7 @@ def js_log(x):
     return dk * ln2_hi - ((s * (f - r) - dk * ln2_lo) - f)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def js_exp(x):
     """``Math.exp(x)`` as V8 computes it (fdlibm's ``__ieee754_exp``), for |x| < 709."""
     if not (abs(x) < 709.0):
@@ -182,7 +182,7 @@ _ERRBOUND3 = (3.0 + 16.0 * _EPSILON) * _EPSILON
 _SPLITTER = 134217729.0  # 2**27 + 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _two_product(a, b):
     x = a * b
     c = _SPLITTER * a
@@ -219,12 +219,12 @@ def _grow(e, n, b):
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _exact_orient_sign(ax, ay, bx, by, cx, cy):
     """Sign of ``(ay - cy)(bx - cx) - (ax - cx)(by - cy)`` in exact arithmetic."""
     # = ay bx - ay cx - cy bx - ax by + ax cy + cx by
     e = np.empty(16)
-    n = 0
+    n = np.int64(0)  # not a literal 0: one compilation of _grow, not two
     lo, hi = _two_product(ay, bx)
     n = _grow(e, _grow(e, n, lo), hi)
     lo, hi = _two_product(-ay, cx)
@@ -272,7 +272,7 @@ def _orient(ax, ay, bx, by, cx, cy):
 # concaveman's convex hull: the 4 extreme points' quadrilateral culls, then a monotone chain
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _in_quad(x, y, qx, qy):
     """point-in-polygon (ray casting) of (x, y) in the quadrilateral (qx, qy)."""
     inside = False
@@ -288,7 +288,7 @@ def _in_quad(x, y, qx, qy):
     return inside
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, inline="always")
 def _before(fx, fy, i, j):
     """(x, y, index) of i before that of j."""
     if fx[i] != fx[j]:
@@ -298,7 +298,7 @@ def _before(fx, fy, i, j):
     return i < j
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _stable_xy_order(fx, fy):
     """Indices sorted by x, then y, then index: what a stable sort by (x, y) gives.
 
@@ -336,7 +336,7 @@ def fast_convex_hull(p, out):
     numba's boxing of a returned array is where Ctrl-C crashed.)
     """
     hull = _fast_convex_hull(p)
-    for i in range(hull.shape[0]):  # not out[:k] = hull: see _rbush._grow_tree
+    for i in range(hull.shape[0]):  # not out[:k] = hull: see _concaveman._list_edge
         out[i] = hull[i]
     return hull.shape[0]
 
@@ -407,7 +407,7 @@ def _fast_convex_hull(p):
         upper[nu] = q
         nu += 1
     hull = np.empty(nl + nu - 2, dtype=np.int64)
-    for j in range(nl):  # not hull[:nl] = ...: see _rbush._grow_tree
+    for j in range(nl):  # not hull[:nl] = ...: see _concaveman._list_edge
         hull[j] = lower[j]
     k = nl
     for j in range(nu - 2, 0, -1):

@@ -1,6 +1,6 @@
 """rbush, the R-tree of mapbox's concaveman, in arrays: OMT bulk loading with its Floyd-Rivest
-selection, insertion with its split heuristics, removal, and the node boxes, as the JavaScript
-builds them (see :mod:`._concaveman` for why the tree must be the JavaScript's).
+selection, removal, and the node boxes, as the JavaScript builds them (see :mod:`._concaveman`
+for why the tree must be the JavaScript's).
 
 Licences
 --------
@@ -44,7 +44,8 @@ MIN_ENTRIES = 7
 #: reference counting (``_nrt=False``): each array argument would otherwise cost two atomic
 #: updates a call, which made up most of the time of the tree operations.
 
-#: A node holds one child more than MAX_ENTRIES just before it is split.
+#: A node's room for children (rbush's insert holds one more than MAX_ENTRIES before a split;
+#: the bulk load and removal never do).
 _WIDTH = MAX_ENTRIES + 1
 
 _INF = math.inf
@@ -69,7 +70,7 @@ def _new_tree(capacity, items):
     return ch, cnt, leaf, hgt, bb, par, where, meta
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, inline="always")
 def _alloc(cnt, leaf, hgt, bb, par, meta):
     node = meta[1]
     meta[1] += 1
@@ -82,33 +83,6 @@ def _alloc(cnt, leaf, hgt, bb, par, meta):
     bb[node, 3] = -_INF
     par[node] = -1
     return node
-
-
-@njit(cache=True)
-def _grow_tree(ch, cnt, leaf, hgt, bb, par, meta, need):
-    """The tree's arrays with room for `need` more nodes (the same arrays if there is room)."""
-    cap = ch.shape[0]
-    if meta[1] + need <= cap:
-        return ch, cnt, leaf, hgt, bb, par
-    new = max(2 * cap, meta[1] + need)
-    ch2 = np.empty((new, _WIDTH), dtype=np.int64)
-    cnt2 = np.zeros(new, dtype=np.int64)
-    leaf2 = np.ones(new, dtype=np.bool_)
-    hgt2 = np.ones(new, dtype=np.int64)
-    bb2 = np.empty((new, 4))
-    par2 = np.full(new, -1, dtype=np.int64)
-    # element by element: an array assignment compiles numba's shape-mismatch message
-    # (more than a second on a fresh install)
-    for i in range(cap):
-        for j in range(_WIDTH):
-            ch2[i, j] = ch[i, j]
-        for j in range(4):
-            bb2[i, j] = bb[i, j]
-        cnt2[i] = cnt[i]
-        leaf2[i] = leaf[i]
-        hgt2[i] = hgt[i]
-        par2[i] = par[i]
-    return ch2, cnt2, leaf2, hgt2, bb2, par2
 
 
 @njit(cache=True, _nrt=False)
@@ -130,7 +104,7 @@ def _calc_bbox(ch, cnt, leaf, bb, ibox, node):
     bb[node, 3] = y1
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, inline="always")
 def _quickselect(items, key, k, left, right, frames):
     """quickselect (Floyd-Rivest) of items[left:right + 1] by key[item], as rbush's.
 
@@ -224,7 +198,7 @@ def _multi_select(items, left, right, n, key, stack, frames):
         top += 4
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _packed_nodes(n):
     """How many nodes rbush's bulk load makes for n items (its splitting arithmetic)."""
     stack_n = np.empty(1024, dtype=np.int64)
@@ -256,7 +230,7 @@ def _packed_nodes(n):
     return nodes
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _load(points, ibox):
     """rbush's ``load`` of all points (OMT bulk load; inserts below MIN_ENTRIES points)."""
     n = points.shape[0]
@@ -362,177 +336,3 @@ def _remove(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, item):
         else:
             _calc_bbox(ch, cnt, leaf, bb, ibox, node)
         node = parent
-
-
-@njit(cache=True, _nrt=False)
-def _dist_bbox(ch, leaf, bb, ibox, node, k, p, out):
-    src = ibox if leaf[node] else bb
-    out[0] = _INF
-    out[1] = _INF
-    out[2] = -_INF
-    out[3] = -_INF
-    for i in range(k, p):
-        c = ch[node, i]
-        out[0] = min(out[0], src[c, 0])
-        out[1] = min(out[1], src[c, 1])
-        out[2] = max(out[2], src[c, 2])
-        out[3] = max(out[3], src[c, 3])
-
-
-@njit(cache=True, _nrt=False)
-def _sort_children(ch, cnt, leaf, bb, ibox, node, axis):
-    """Stable sort of a node's children by their box's min x (axis 0) or min y (axis 1)."""
-    src = ibox if leaf[node] else bb
-    for i in range(1, cnt[node]):
-        c = ch[node, i]
-        v = src[c, axis]
-        j = i
-        while j > 0:
-            d = ch[node, j - 1]
-            if src[d, axis] > v:
-                ch[node, j] = d
-                j -= 1
-            else:
-                break
-        ch[node, j] = c
-
-
-@njit(cache=True, _nrt=False)
-def _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, axis, lbox, rbox):
-    _sort_children(ch, cnt, leaf, bb, ibox, node, axis)
-    _dist_bbox(ch, leaf, bb, ibox, node, np.int64(0), m, lbox)
-    _dist_bbox(ch, leaf, bb, ibox, node, big_m - m, big_m, rbox)
-    margin = ((lbox[2] - lbox[0]) + (lbox[3] - lbox[1])) + (
-        (rbox[2] - rbox[0]) + (rbox[3] - rbox[1])
-    )
-    src = ibox if leaf[node] else bb
-    for i in range(m, big_m - m):
-        c = ch[node, i]
-        for j in range(2):
-            lbox[j] = min(lbox[j], src[c, j])
-            lbox[j + 2] = max(lbox[j + 2], src[c, j + 2])
-        margin += (lbox[2] - lbox[0]) + (lbox[3] - lbox[1])
-    for i in range(big_m - m - 1, m - 1, -1):
-        c = ch[node, i]
-        for j in range(2):
-            rbox[j] = min(rbox[j], src[c, j])
-            rbox[j + 2] = max(rbox[j + 2], src[c, j + 2])
-        margin += (rbox[2] - rbox[0]) + (rbox[3] - rbox[1])
-    return margin
-
-
-@njit(cache=True, _nrt=False)
-def _split(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, path, level, lbox, rbox):
-    node = path[level]
-    big_m = cnt[node]
-    m = MIN_ENTRIES
-    # chooseSplitAxis: sorted by x, then by y; back to x if x's margins are smaller
-    x_margin = _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, np.int64(0), lbox, rbox)
-    y_margin = _all_dist_margin(ch, cnt, leaf, bb, ibox, node, m, big_m, np.int64(1), lbox, rbox)
-    if x_margin < y_margin:
-        _sort_children(ch, cnt, leaf, bb, ibox, node, np.int64(0))
-    # chooseSplitIndex: least overlap, then least area
-    min_overlap = _INF
-    min_area = _INF
-    index = m
-    for i in range(m, big_m - m + 1):
-        _dist_bbox(ch, leaf, bb, ibox, node, np.int64(0), i, lbox)
-        _dist_bbox(ch, leaf, bb, ibox, node, i, big_m, rbox)
-        overlap = max(0.0, min(lbox[2], rbox[2]) - max(lbox[0], rbox[0])) * max(
-            0.0, min(lbox[3], rbox[3]) - max(lbox[1], rbox[1])
-        )
-        area = (lbox[2] - lbox[0]) * (lbox[3] - lbox[1]) + (rbox[2] - rbox[0]) * (rbox[3] - rbox[1])
-        if overlap < min_overlap:
-            min_overlap = overlap
-            index = i
-            min_area = area if area < min_area else min_area
-        elif overlap == min_overlap:
-            if area < min_area:
-                min_area = area
-                index = i
-    new = _alloc(cnt, leaf, hgt, bb, par, meta)
-    for k in range(index, big_m):
-        c = ch[node, k]
-        ch[new, k - index] = c
-        if leaf[node]:
-            where[c] = new
-        else:
-            par[c] = new
-    cnt[new] = big_m - index
-    cnt[node] = index
-    hgt[new] = hgt[node]
-    leaf[new] = leaf[node]
-    _calc_bbox(ch, cnt, leaf, bb, ibox, node)
-    _calc_bbox(ch, cnt, leaf, bb, ibox, new)
-    if level > 0:
-        parent = path[level - 1]
-        ch[parent, cnt[parent]] = new
-        cnt[parent] += 1
-        par[new] = parent
-    else:  # split the root
-        root = _alloc(cnt, leaf, hgt, bb, par, meta)
-        ch[root, 0] = node
-        ch[root, 1] = new
-        cnt[root] = 2
-        hgt[root] = hgt[node] + 1
-        leaf[root] = False
-        par[node] = root
-        par[new] = root
-        _calc_bbox(ch, cnt, leaf, bb, ibox, root)
-        meta[0] = root
-
-
-@njit(cache=True, _nrt=False)
-def _insert(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, item, path, lbox, rbox):
-    """rbush's ``insert`` of an item at the leaf level (the tree must have room for its splits)."""
-    root = meta[0]
-    level = hgt[root] - 1
-    x0 = ibox[item, 0]
-    y0 = ibox[item, 1]
-    x1 = ibox[item, 2]
-    y1 = ibox[item, 3]
-    # chooseSubtree: least enlargement, then least area
-    node = root
-    depth = 0
-    target = -1
-    while True:
-        path[depth] = node
-        depth += 1
-        if leaf[node] or depth - 1 == level:
-            break
-        min_area = _INF
-        min_enlargement = _INF
-        for k in range(cnt[node]):
-            c = ch[node, k]
-            area = (bb[c, 2] - bb[c, 0]) * (bb[c, 3] - bb[c, 1])
-            enlargement = (max(x1, bb[c, 2]) - min(x0, bb[c, 0])) * (
-                max(y1, bb[c, 3]) - min(y0, bb[c, 1])
-            ) - area
-            if enlargement < min_enlargement:
-                min_enlargement = enlargement
-                min_area = area if area < min_area else min_area
-                target = c
-            elif enlargement == min_enlargement:
-                if area < min_area:
-                    min_area = area
-                    target = c
-        node = target if target >= 0 else ch[node, 0]
-    ch[node, cnt[node]] = item
-    cnt[node] += 1
-    where[item] = node
-    bb[node, 0] = min(bb[node, 0], x0)
-    bb[node, 1] = min(bb[node, 1], y0)
-    bb[node, 2] = max(bb[node, 2], x1)
-    bb[node, 3] = max(bb[node, 3], y1)
-    while level >= 0:
-        if cnt[path[level]] > MAX_ENTRIES:
-            _split(ch, cnt, leaf, hgt, bb, par, where, meta, ibox, path, level, lbox, rbox)
-            level -= 1
-        else:
-            break
-    for i in range(level, -1, -1):
-        node = path[i]
-        bb[node, 0] = min(bb[node, 0], x0)
-        bb[node, 1] = min(bb[node, 1], y0)
-        bb[node, 2] = max(bb[node, 2], x1)
-        bb[node, 3] = max(bb[node, 3], y1)
