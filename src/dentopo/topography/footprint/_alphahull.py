@@ -68,9 +68,11 @@ _NEAR_O = 1e-3
 _MARGIN = 1e-6
 #: Wedges wider than pi less this (O almost on the chord) are tested against every point.
 _WIDE = 1e-3
+#: A float64's bits but the sign's: xor'ed into a negative float's bits, they sort as it does.
+_ALL_BUT_SIGN = np.int64(0x7FFFFFFFFFFFFFFF)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _side(points, i, j, k):
     """Twice the signed area of (i, j, k): positive if k lies left of i -> j."""
     return (points[j, 0] - points[i, 0]) * (points[k, 1] - points[i, 1]) - (
@@ -116,7 +118,7 @@ def edge_table(points, simplices, neighbors, radius, edges, r_left, r_right, on_
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
@@ -181,7 +183,6 @@ def hull_arcs(
     new_start = start[:k].copy()
     new_end = end[:k].copy()
     new = 0
-    angles = np.empty(0)
     order = np.empty(0, dtype=np.int64)
     for p in range(n):
         lo, hi = degree[p], degree[p + 1]
@@ -194,16 +195,24 @@ def hull_arcs(
                 continue  # two arcs in (or out): not a wedge
             pairs = 1
         else:
-            # the wedges: each in-arc with the next arc counter-clockwise around p
-            if angles.shape[0] < size:
-                angles = np.empty(size)
+            # the wedges: each in-arc with the next arc counter-clockwise around p, the arcs
+            # in the order of their angles (ties, which two edges of a triangulation cannot
+            # make, in slot order); sorted as integers, by the sort compiled anyway (numba's
+            # float argsort is 1 s more on a fresh install): a float's bits, the negative
+            # ones with all but the sign flipped, order as the float does (-0 taken as +0)
+            angles = np.empty(size)
+            bits = angles.view(np.int64)
+            keys = np.empty(size, dtype=np.int64)
             for m in range(size):
                 a = slots[lo + m] // 2
                 other = end[a] if slots[lo + m] % 2 == 0 else start[a]
-                angles[m] = math.atan2(
-                    points[other, 1] - points[p, 1], points[other, 0] - points[p, 0]
+                angles[m] = (
+                    math.atan2(points[other, 1] - points[p, 1], points[other, 0] - points[p, 0])
+                    + 0.0
                 )
-            order = np.argsort(angles[:size])
+                keys[m] = bits[m] if bits[m] >= 0 else bits[m] ^ _ALL_BUT_SIGN
+            order = np.empty(size, dtype=np.int64)
+            stable_order(keys, order)
             pairs = size
         for m in range(pairs):
             if size == 2:
@@ -262,7 +271,7 @@ def hull_arcs(
     return k, total, new, pinch, isolated
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _inside(px, py, bx, by, cx, cy, ox, oy):
     """molaR's test: (px, py) strictly inside the triangle (O, B, C); 1, 0, or 2 (undefined).
 

@@ -216,7 +216,7 @@ def boundary_ends(faces, group_start, group_edge, groups, ends):
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # compiled on its own: twice (a literal -1 at a call)
 def _find(parent, x):
     root = x
     while parent[root] != root:
@@ -342,7 +342,7 @@ def energy_density(vertices, faces, normals, rcond_min, energy, area):
         area[f] = 0.5 * math.sqrt(max(det, 0.0))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _k(vertices, normals, j, i):
     dx = vertices[j, 0] - vertices[i, 0]
     dy = vertices[j, 1] - vertices[i, 1]

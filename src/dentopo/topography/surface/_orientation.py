@@ -288,7 +288,7 @@ def survey(
         length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
         base = np.sum(length * ends[:, :, 2].mean(axis=1)) / length.sum()
         height = np.empty(m)
-        _kernels.face_mean_z(vertices, faces, height)
+        _kernels.face_mean_z(_kernels.readonly(vertices), _kernels.readonly(faces), height)
         centre = np.sum(area * height) / total
         return Orientation("+z" if base < centre else "-z", "open base", **details), inward
     tri = vertices[outward]
