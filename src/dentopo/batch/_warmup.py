@@ -37,17 +37,17 @@ from ._settings import Settings
 #: first).  The estimate said before compiling; a parallel warm-up takes about its largest group.
 COMPILE_SECONDS = {
     "ariadne": 6.5,  # the kernel sums, the eigen-solvers and ariaDNE's sign
-    "classic": 1.0,
-    "rfi": 8.0,  # molaR's footprint: the certified Delaunay sweep and the alpha hull
-    "opcr": 2.0,
+    "classic": 3.0,  # with molaR's surface preparation, which the molaR metrics share
+    "rfi": 7.0,  # molaR's footprint: the certified Delaunay sweep and the alpha hull
+    "opcr": 0.5,
     "opc": 0.5,
     "slope": 0.5,
     "arc": 1.0,
     "doolkit_slope": 1.0,
     "angularity": 0.5,
-    "relief_index": 11.5,  # doolkit's footprint: concaveman and its R-tree
+    "relief_index": 8.5,  # doolkit's footprint: concaveman and its R-tree
     "inclination": 0.5,
-    "doolkit_opc": 0.5,
+    "doolkit_opc": 1.0,
     "doolkit_opcr": 0.5,
     "doolkit_arc": 0.5,
     "doolkit_dne": 0.5,
@@ -59,7 +59,7 @@ COMPILE_SECONDS = {
     "morphotester_rfi": 0.5,
     "morphotester_opcr": 0.5,
     "rfi_projected": 1.0,
-    "pcv": 2.0,
+    "pcv": 2.5,
 }
 
 #: ``DENTOPO_WARMUP=0`` in the environment: a batch compiles nothing before its meshes (each
