@@ -438,6 +438,20 @@ def _consistent_boundary(faces: np.ndarray, n_vertices: int) -> np.ndarray | Non
     return np.stack([faces[face, corner], faces[face, (corner + 1) % 3]], axis=1)
 
 
+@njit(cache=True, inline="always")
+def first_at_least(values, lo, hi, value):  # pragma: no cover
+    """``lo + np.searchsorted(values[lo:hi], value)``: the first index in ``lo:hi`` (sorted
+    there) whose value is at least `value`, or `hi` (a binary search of our own: numba's
+    ``searchsorted`` compiled in 0.95 s on a fresh install)."""
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if values[mid] < value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
 @njit(cache=True)
 def _reverse_missing(faces, n, boundary, target):
     """``boundary[e]``: no face has the reverse of directed edge e (the order of
@@ -480,14 +494,7 @@ def _reverse_missing(faces, n, boundary, target):
         for a in range(3):
             u = faces[f, a]
             v = faces[f, (a + 1) % 3]
-            lo = start[v]
-            hi = start[v + 1]
-            while lo < hi:  # the first outgoing edge of v to a vertex >= u
-                mid = (lo + hi) // 2
-                if target[mid] < u:
-                    lo = mid + 1
-                else:
-                    hi = mid
+            lo = first_at_least(target, start[v], start[v + 1], u)  # v's first edge to >= u
             found = lo < start[v + 1] and target[lo] == u
             boundary[a * m + f] = u == v or not found
     return True

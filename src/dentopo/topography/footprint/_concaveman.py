@@ -98,7 +98,7 @@ def _update_box(p, node_p, nxt, s_box, node):
 
 
 @njit(cache=True)
-def _list_edge(p, node_p, nxt, s_box, edge, version, grid, cells, entries, count):
+def _list_edge(p, node_p, nxt, s_box, edge, version, grid, side, cells, entries, count):
     """Put `edge` (its box, and an entry for it in every cell its box meets) into the grid.
 
     `grid` is ``(x_lo, y_lo, cells per unit of x, of y)``, `cells` (side * side,) the first
@@ -106,7 +106,6 @@ def _list_edge(p, node_p, nxt, s_box, edge, version, grid, cells, entries, count
     returns `entries` (a larger copy when they were full) and the number in use.
     """
     _update_box(p, node_p, nxt, s_box, edge)
-    side = int(math.sqrt(cells.shape[0]) + 0.5)
     i0 = _cell(s_box[edge, 0], grid[0], grid[2], side)
     i1 = _cell(s_box[edge, 2], grid[0], grid[2], side)
     j0 = _cell(s_box[edge, 1], grid[1], grid[3], side)
@@ -314,18 +313,20 @@ def concaveman_ring(points, concavity, length_threshold, out):
     # dropped as the queries meet them.  (The JavaScript keeps the edges in an R-tree;
     # which edges are searched, in which order, cannot change the result: the search only
     # asks whether any crosses.)
-    grid = np.empty(4)
-    x_hi = grid[0] = p[0, 0]
-    y_hi = grid[1] = p[0, 1]
+    x_lo = x_hi = p[0, 0]
+    y_lo = y_hi = p[0, 1]
     for i in range(1, n):
-        grid[0] = min(grid[0], p[i, 0])
-        grid[1] = min(grid[1], p[i, 1])
+        x_lo = min(x_lo, p[i, 0])
         x_hi = max(x_hi, p[i, 0])
+        y_lo = min(y_lo, p[i, 1])
         y_hi = max(y_hi, p[i, 1])
     side = max(1, int(math.sqrt(n) / 2.0))
+    grid = np.empty(4)
+    grid[0] = x_lo
+    grid[1] = y_lo
     # cells per unit; 0 (one column or row) for a flat box, or one too wide for a double
-    grid[2] = side / (x_hi - grid[0]) if x_hi > grid[0] else 0.0
-    grid[3] = side / (y_hi - grid[1]) if y_hi > grid[1] else 0.0
+    grid[2] = side / (x_hi - x_lo) if x_hi > x_lo else 0.0
+    grid[3] = side / (y_hi - y_lo) if y_hi > y_lo else 0.0
     cells = np.full(side * side, -1, dtype=np.int64)
     entries = np.empty((4 * n + 64, 3), dtype=np.int64)
     count = np.int64(0)  # not a literal 0: one compilation of _list_edge, not two
@@ -333,12 +334,10 @@ def concaveman_ring(points, concavity, length_threshold, out):
     s_box = np.empty((cap, 4))
     for k in range(q_tail):
         entries, count = _list_edge(
-            p, node_p, nxt, s_box, queue[k], version, grid, cells, entries, count
+            p, node_p, nxt, s_box, queue[k], version, grid, side, cells, entries, count
         )
 
-    scale = 0.0
-    for i in range(n):
-        scale = max(scale, abs(p[i, 0]), abs(p[i, 1]))
+    scale = max(abs(x_lo), abs(x_hi), abs(y_lo), abs(y_hi))  # the largest |coordinate|
     slack = 64.0 * 2.220446049250313e-16 * scale + 1e-300
     sq_concavity = concavity * concavity
     sq_len_threshold = length_threshold * length_threshold
@@ -535,7 +534,7 @@ def concaveman_ring(points, concavity, length_threshold, out):
             version[node] += 1  # its old entries: the edge now ends at the new point
             for e in (node, new):
                 entries, count = _list_edge(
-                    p, node_p, nxt, s_box, e, version, grid, cells, entries, count
+                    p, node_p, nxt, s_box, e, version, grid, side, cells, entries, count
                 )
 
     node = last

@@ -40,6 +40,7 @@ import shapely
 
 from ..._html_repr import result_html
 from ..._jit import njit
+from ...mesh._topology import first_at_least
 from ..surface._molar import Surface, prepare_surface
 from ..surface._orientation import Orientation, check_orient
 
@@ -135,21 +136,6 @@ def _bounding_edges(xy, faces, group_start, group_edge, groups, out):
     return count
 
 
-@njit(cache=True, inline="always")
-def _first_at_least(sorted_values, value):  # pragma: no cover
-    """``np.searchsorted(sorted_values, value)``: the first index whose value is at least
-    `value` (a binary search of our own: numba's compiled in 0.95 s on a fresh install)."""
-    lo = 0
-    hi = sorted_values.shape[0]
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if sorted_values[mid] < value:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
-
-
 @njit(cache=True)
 def _covered(xy, faces, px, py, covered):
     """For each point (sorted by x), whether some projected face (closed) contains it."""
@@ -162,7 +148,7 @@ def _covered(xy, faces, px, py, covered):
             continue
         xmin, xmax = min(x0, x1, x2), max(x0, x1, x2)
         ymin, ymax = min(y0, y1, y2), max(y0, y1, y2)
-        j = _first_at_least(px, xmin)
+        j = first_at_least(px, 0, n, xmin)
         while j < n and px[j] <= xmax:
             x, y = px[j], py[j]
             if not covered[j] and ymin <= y <= ymax:
